@@ -1,0 +1,50 @@
+//! The library's error type. Every variant names the offending item so a caller (or the C
+//! ABI's last-error message) can point at it; `ffi` maps each variant to one status code.
+
+use thiserror::Error;
+
+/// Everything that can go wrong when building or optimizing a mesh. Field names are the
+/// quantities the variant's message describes.
+#[allow(missing_docs)]
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum Error {
+    /// The mesh has no quads at all.
+    #[error("the mesh has no quads")]
+    NoQuads,
+    /// A quad refers to a vertex that does not exist.
+    #[error(
+        "quad {quad} corner {corner} refers to vertex {index}, but there are only {vertex_count} vertices"
+    )]
+    IndexOutOfRange { quad: usize, corner: usize, index: u64, vertex_count: usize },
+    /// A quad uses the same vertex twice.
+    #[error("quad {quad} uses vertex {vertex} more than once")]
+    RepeatedVertex { quad: usize, vertex: u32 },
+    /// An edge is shared by more than two quads.
+    #[error(
+        "edge ({a}, {b}) is shared by {count} quads (first: quads {first} and {second}); the mesh is non-manifold"
+    )]
+    NonManifoldEdge { a: u32, b: u32, count: usize, first: usize, second: usize },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFiniteCoordinate { vertex: usize },
+    /// The quads cannot be oriented consistently (e.g. a Moebius strip).
+    #[error("the mesh is not orientable: quad {quad} cannot be oriented consistently with its neighbours")]
+    NonOrientable { quad: usize },
+    /// The fixed-flag array does not have one entry per vertex.
+    #[error("{got} fixed flags were given for {expected} vertices")]
+    FixedLengthMismatch { expected: usize, got: usize },
+    /// The coordinate array does not match the mesh it is applied to.
+    #[error("{got} vertices were given, but the mesh has {expected}")]
+    VertexCountMismatch { expected: usize, got: usize },
+    /// An option is out of its valid range.
+    #[error("invalid option {name}: {reason}")]
+    InvalidOption { name: &'static str, reason: String },
+    /// The vertices do not lie in one plane (curved surface meshes are not supported).
+    #[error(
+        "the mesh is not planar: vertex {vertex} is {distance:e} away from the best-fit plane (tolerance {tolerance:e})"
+    )]
+    NotPlanar { vertex: usize, distance: f64, tolerance: f64 },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,43 @@
+//! # quadopt
+//!
+//! Quality improvement of 2D quadrilateral meshes by vertex repositioning, after Akram, Si and
+//! Chen, "An Embedded Polygon Strategy for Quality Improvement of 2D Quadrilateral Meshes with
+//! Boundaries" (2021). Connectivity never changes; the scaled Jacobian (Verdict's definition,
+//! signed against the mesh's orientation) of the quads is raised while boundaries, corners and
+//! fixed vertices are preserved.
+//!
+//! ```
+//! use glam::DVec2;
+//! use quadopt::{optimize, BoundaryMode, Options, QuadMesh};
+//!
+//! // A 2x2 patch whose centre vertex has been dragged off-centre.
+//! let mut points = Vec::new();
+//! for j in 0..3 {
+//!     for i in 0..3 {
+//!         points.push(DVec2::new(i as f64, j as f64));
+//!     }
+//! }
+//! points[4] = DVec2::new(1.6, 1.5);
+//! let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+//! let mut mesh = QuadMesh::new(points, quads, None).unwrap();
+//! let options = Options { boundary: BoundaryMode::Fixed, tau: 1e-12, ..Options::default() };
+//! let report = optimize(&mut mesh, &options).unwrap();
+//! assert!(report.output.min > report.input.min);
+//! assert!((mesh.points()[4] - DVec2::new(1.0, 1.0)).length() < 1e-3);
+//! ```
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod features;
+pub mod mesh;
+pub mod quality;
+pub mod smooth;
+pub mod topology;
+
+pub use error::{Error, Result};
+pub use glam::DVec2;
+pub use mesh::QuadMesh;
+pub use quality::QualityStats;
+pub use smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, optimize};
+pub use topology::Topology;

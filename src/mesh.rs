@@ -1,0 +1,340 @@
+//! A validated 2D quad mesh: flat vertex and quad arrays, fixed flags, consistent orientation.
+//!
+//! Validation names the offending quad or vertex. Orientation is made consistent per connected
+//! component (quads disagreeing with their component's majority are reversed and listed in
+//! [`QuadMesh::reoriented`]); a component whose total signed area is negative is clockwise,
+//! which is a valid mesh seen from the other side, not a mesh of inverted quads. Internally every
+//! quad is stored counter-clockwise so quality is always measured against +z.
+
+use crate::error::{Error, Result};
+use glam::DVec2;
+
+/// A validated planar quad mesh.
+#[derive(Clone, Debug)]
+pub struct QuadMesh {
+    points: Vec<DVec2>,
+    /// Quads, consistently counter-clockwise (positive total signed area per component).
+    quads: Vec<[u32; 4]>,
+    fixed: Vec<bool>,
+    /// Quads whose vertex order was reversed to agree with their neighbours.
+    reoriented: Vec<u32>,
+    /// Per quad: its component was given clockwise (empty when none was).
+    clockwise: Vec<bool>,
+}
+
+/// Reverses a quad's orientation, keeping its first vertex.
+#[inline]
+fn reversed(q: [u32; 4]) -> [u32; 4] {
+    [q[0], q[3], q[2], q[1]]
+}
+
+impl QuadMesh {
+    /// Validates and builds a mesh.
+    ///
+    /// `fixed`, if given, holds one flag per vertex; fixed vertices never move.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use quadopt::QuadMesh;
+    /// let points = vec![DVec2::new(0., 0.), DVec2::new(1., 0.), DVec2::new(1., 1.), DVec2::new(0., 1.)];
+    /// let mesh = QuadMesh::new(points, vec![[0, 1, 2, 3]], None).unwrap();
+    /// assert_eq!(mesh.quads().len(), 1);
+    /// assert!(QuadMesh::new(vec![DVec2::ZERO; 3], vec![[0, 1, 2, 3]], None).is_err());
+    /// ```
+    pub fn new(points: Vec<DVec2>, quads: Vec<[u32; 4]>, fixed: Option<Vec<bool>>) -> Result<Self> {
+        let n = points.len();
+        let fixed = match fixed {
+            Some(f) if f.len() != n => return Err(Error::FixedLengthMismatch { expected: n, got: f.len() }),
+            Some(f) => f,
+            None => vec![false; n],
+        };
+        validate_indices(&quads, n)?;
+        // Coordinates of vertices used by no quad are never read, but a NaN there is still
+        // almost certainly a caller bug, so reject every non-finite coordinate.
+        if let Some(v) = points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFiniteCoordinate { vertex: v });
+        }
+        let (quads, reoriented, clockwise) = orient(&points, quads)?;
+        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise })
+    }
+
+    /// Vertex positions.
+    pub fn points(&self) -> &[DVec2] {
+        &self.points
+    }
+
+    /// Mutable vertex positions (connectivity cannot change).
+    pub fn points_mut(&mut self) -> &mut [DVec2] {
+        &mut self.points
+    }
+
+    /// Quads, consistently oriented counter-clockwise.
+    pub fn quads(&self) -> &[[u32; 4]] {
+        &self.quads
+    }
+
+    /// Quads in the handedness the caller used: consistently oriented, but a component given
+    /// clockwise stays clockwise. This is what file writers should emit.
+    pub fn quads_as_given(&self) -> Vec<[u32; 4]> {
+        if self.clockwise.is_empty() {
+            return self.quads.clone();
+        }
+        self.quads.iter().zip(&self.clockwise).map(|(&q, &cw)| if cw { reversed(q) } else { q }).collect()
+    }
+
+    /// Per-vertex fixed flags.
+    pub fn fixed(&self) -> &[bool] {
+        &self.fixed
+    }
+
+    /// Quads whose vertex order was reversed to make the orientation consistent.
+    pub fn reoriented(&self) -> &[u32] {
+        &self.reoriented
+    }
+
+    /// Whether any connected component was given clockwise.
+    pub fn has_clockwise_component(&self) -> bool {
+        self.clockwise.iter().any(|&c| c)
+    }
+
+    /// Replaces the vertex positions (same count, all finite).
+    pub fn set_points(&mut self, points: &[DVec2]) -> Result<()> {
+        if points.len() != self.points.len() {
+            return Err(Error::VertexCountMismatch { expected: self.points.len(), got: points.len() });
+        }
+        if let Some(v) = points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFiniteCoordinate { vertex: v });
+        }
+        self.points.copy_from_slice(points);
+        Ok(())
+    }
+
+    /// Per-quad scaled Jacobians (see [`crate::quality`]).
+    pub fn quality_values(&self) -> Vec<f64> {
+        crate::quality::quad_values(&self.points, &self.quads)
+    }
+
+    /// Quality statistics of the mesh.
+    pub fn quality(&self) -> crate::quality::QualityStats {
+        crate::quality::QualityStats::from_values(&self.quality_values())
+    }
+}
+
+fn validate_indices(quads: &[[u32; 4]], n: usize) -> Result<()> {
+    if quads.is_empty() {
+        return Err(Error::NoQuads);
+    }
+    for (qi, q) in quads.iter().enumerate() {
+        for (c, &v) in q.iter().enumerate() {
+            if v as usize >= n {
+                return Err(Error::IndexOutOfRange { quad: qi, corner: c, index: v as u64, vertex_count: n });
+            }
+            if q[..c].contains(&v) {
+                return Err(Error::RepeatedVertex { quad: qi, vertex: v });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// One directed quad edge: (min vertex, max vertex, quad, whether it runs min -> max).
+type EdgeRecord = (u32, u32, u32, bool);
+
+/// The quad edges sorted by undirected key, so quads sharing an edge are adjacent.
+/// Fails on an edge used by more than two quads.
+fn sorted_edges(quads: &[[u32; 4]]) -> Result<Vec<EdgeRecord>> {
+    let mut edges: Vec<EdgeRecord> = Vec::with_capacity(quads.len() * 4);
+    for (qi, q) in quads.iter().enumerate() {
+        for i in 0..4 {
+            let (a, b) = (q[i], q[(i + 1) % 4]);
+            edges.push((a.min(b), a.max(b), qi as u32, a < b));
+        }
+    }
+    edges.sort_unstable();
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
+            j += 1;
+        }
+        if j - i > 2 {
+            return Err(Error::NonManifoldEdge {
+                a: edges[i].0,
+                b: edges[i].1,
+                count: j - i,
+                first: edges[i].2 as usize,
+                second: edges[i + 1].2 as usize,
+            });
+        }
+        i = j;
+    }
+    Ok(edges)
+}
+
+fn signed_area(points: &[DVec2], q: &[u32; 4]) -> f64 {
+    let p = crate::quality::corners(points, q);
+    // Shoelace formula; a quad's doubled area is the cross product of its diagonals.
+    0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
+}
+
+type Oriented = (Vec<[u32; 4]>, Vec<u32>, Vec<bool>);
+
+/// Makes orientation consistent per component and counter-clockwise internally.
+fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
+    let edges = sorted_edges(&quads)?;
+    // Dual graph in CSR form: neighbour quad and whether the shared edge runs the same way in
+    // both (which means one of them must be reversed).
+    let nq = quads.len();
+    let mut degree = vec![0u32; nq + 1];
+    let mut pairs = Vec::new();
+    for w in edges.windows(2) {
+        if w[0].0 == w[1].0 && w[0].1 == w[1].1 {
+            pairs.push((w[0].2, w[1].2, w[0].3 == w[1].3));
+            degree[w[0].2 as usize] += 1;
+            degree[w[1].2 as usize] += 1;
+        }
+    }
+    let mut offsets = vec![0u32; nq + 1];
+    for q in 0..nq {
+        offsets[q + 1] = offsets[q] + degree[q];
+    }
+    let mut fill = offsets.clone();
+    let mut adj = vec![(0u32, false); offsets[nq] as usize];
+    for &(a, b, same) in &pairs {
+        adj[fill[a as usize] as usize] = (b, same);
+        fill[a as usize] += 1;
+        adj[fill[b as usize] as usize] = (a, same);
+        fill[b as usize] += 1;
+    }
+
+    // flip[q]: reverse q relative to its component's seed. Breadth-first over the dual graph.
+    const UNSEEN: u8 = 2;
+    let mut flip = vec![UNSEEN; nq];
+    let mut reoriented = Vec::new();
+    let mut clockwise = vec![false; nq];
+    let mut any_clockwise = false;
+    let mut component = Vec::new();
+    for seed in 0..nq {
+        if flip[seed] != UNSEEN {
+            continue;
+        }
+        component.clear();
+        flip[seed] = 0;
+        component.push(seed as u32);
+        let mut head = 0;
+        while head < component.len() {
+            let q = component[head] as usize;
+            head += 1;
+            for &(nb, same) in &adj[offsets[q] as usize..offsets[q + 1] as usize] {
+                let want = flip[q] ^ u8::from(same);
+                match flip[nb as usize] {
+                    UNSEEN => {
+                        flip[nb as usize] = want;
+                        component.push(nb);
+                    }
+                    f if f != want => return Err(Error::NonOrientable { quad: nb as usize }),
+                    _ => {}
+                }
+            }
+        }
+        // Reverse the minority, so "reoriented" lists as few quads as possible.
+        let flipped = component.iter().filter(|&&q| flip[q as usize] == 1).count();
+        let minority = u8::from(flipped * 2 <= component.len());
+        let mut area = 0.0;
+        for &q in &component {
+            let q = q as usize;
+            if flip[q] == minority {
+                quads[q] = reversed(quads[q]);
+                reoriented.push(q as u32);
+            }
+            area += signed_area(points, &quads[q]);
+        }
+        if area < 0.0 {
+            any_clockwise = true;
+            for &q in &component {
+                quads[q as usize] = reversed(quads[q as usize]);
+                clockwise[q as usize] = true;
+            }
+        }
+    }
+    reoriented.sort_unstable();
+    if !any_clockwise {
+        clockwise = Vec::new();
+    }
+    Ok((quads, reoriented, clockwise))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2x1 strip of unit squares: vertices 0..6, quads counter-clockwise.
+    fn strip() -> (Vec<DVec2>, Vec<[u32; 4]>) {
+        let p = [(0., 0.), (1., 0.), (2., 0.), (0., 1.), (1., 1.), (2., 1.)];
+        (p.iter().map(|&(x, y)| DVec2::new(x, y)).collect(), vec![[0, 1, 4, 3], [1, 2, 5, 4]])
+    }
+
+    #[test]
+    fn errors_name_the_offending_item() {
+        let (p, _) = strip();
+        assert_eq!(QuadMesh::new(p.clone(), vec![], None).unwrap_err(), Error::NoQuads);
+        assert_eq!(
+            QuadMesh::new(p.clone(), vec![[0, 1, 4, 3], [1, 2, 9, 4]], None).unwrap_err(),
+            Error::IndexOutOfRange { quad: 1, corner: 2, index: 9, vertex_count: 6 }
+        );
+        assert_eq!(
+            QuadMesh::new(p.clone(), vec![[0, 1, 1, 3]], None).unwrap_err(),
+            Error::RepeatedVertex { quad: 0, vertex: 1 }
+        );
+        let mut bad = p.clone();
+        bad[4].y = f64::NAN;
+        assert_eq!(
+            QuadMesh::new(bad, vec![[0, 1, 4, 3]], None).unwrap_err(),
+            Error::NonFiniteCoordinate { vertex: 4 }
+        );
+        assert_eq!(
+            QuadMesh::new(p.clone(), vec![[0, 1, 4, 3]], Some(vec![false; 2])).unwrap_err(),
+            Error::FixedLengthMismatch { expected: 6, got: 2 }
+        );
+        // Three quads on edge (1, 4).
+        let mut p3 = p.clone();
+        p3.push(DVec2::new(1.5, 2.0));
+        p3.push(DVec2::new(0.5, 2.0));
+        let err = QuadMesh::new(p3, vec![[0, 1, 4, 3], [1, 2, 5, 4], [1, 4, 6, 7]], None).unwrap_err();
+        assert!(matches!(err, Error::NonManifoldEdge { a: 1, b: 4, count: 3, .. }), "{err:?}");
+    }
+
+    #[test]
+    fn mixed_orientation_is_made_consistent_and_reported() {
+        let (p, _) = strip();
+        let mesh = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 4, 5, 2]], None).unwrap();
+        assert_eq!(mesh.reoriented(), &[1]);
+        assert!(mesh.quality().min > 0.99);
+        assert!(!mesh.has_clockwise_component());
+    }
+
+    #[test]
+    fn clockwise_mesh_is_valid_and_kept_clockwise_for_output() {
+        let (p, q) = strip();
+        let cw: Vec<[u32; 4]> = q.iter().map(|&q| reversed(q)).collect();
+        let mesh = QuadMesh::new(p, cw.clone(), None).unwrap();
+        assert!(mesh.reoriented().is_empty());
+        assert!(mesh.has_clockwise_component());
+        assert_eq!(mesh.quality().inverted, 0);
+        assert_eq!(mesh.quads_as_given(), cw);
+    }
+
+    #[test]
+    fn moebius_strip_is_not_orientable() {
+        // A ring of 4 quads whose last quad is glued with a half twist.
+        let mut p = Vec::new();
+        for i in 0..4 {
+            let a = i as f64;
+            p.push(DVec2::new(a, 0.0));
+            p.push(DVec2::new(a, 1.0));
+        }
+        // Vertices 2i (bottom), 2i+1 (top). Quads i: (2i, 2i+2, 2i+3, 2i+1); last quad twisted.
+        let quads = vec![[0, 2, 3, 1], [2, 4, 5, 3], [4, 6, 7, 5], [6, 1, 0, 7]];
+        assert!(matches!(QuadMesh::new(p, quads, None), Err(Error::NonOrientable { .. })));
+    }
+}

@@ -1,0 +1,221 @@
+//! Boundary optimization (Section 3.3) on the ORIGINAL boundary.
+//!
+//! A movable boundary vertex v has two incident quads, so its half embedded polygon (ring
+//! n0, n1, n2: next along the loop, the interior neighbour, previous along the loop) has one
+//! full interior angle, at n1. Both approaches aim at making v - n1 bisect that angle:
+//!
+//! - Slide (Approach 2). Eq. 9 as printed oscillates (vertices jump 0.2-0.7 edge lengths per
+//!   sweep) and, applied along the current edges, shrinks curved boundaries. Instead v is a
+//!   point of the original boundary polyline, parametrized by arclength s, and we solve
+//!   "v(s) - n1 lies on the bisector" with a bracketed root-find between the arclengths of
+//!   its two boundary neighbours, where the bisecting rotation changes sign.
+//! - Snap (Approach 1). v is rotated about n1 onto the bisector (Eq. 5), then projected back
+//!   onto the original polyline, but only onto the stretch between its two boundary
+//!   neighbours: snapping to the globally nearest boundary point reproduces the paper's
+//!   Figure 4 failure (vertices snapped across a hole).
+//!
+//! Positions of moving boundary vertices are always evaluated from their arclength on the
+//! original polyline, so they stay on it up to roundoff.
+
+use super::BoundaryMode;
+use super::embedded_polygon::{bisecting_rotation, rotate_about};
+use crate::features::Features;
+use crate::topology::Topology;
+use glam::DVec2;
+
+/// Keep at least this fraction of the neighbour-to-neighbour arclength between a vertex and
+/// each of its boundary neighbours, so boundary edges never collapse.
+const MARGIN: f64 = 0.05;
+
+/// The original boundary polylines, parametrized by arclength.
+#[derive(Clone, Debug)]
+pub struct BoundaryGeometry {
+    /// Per loop slot (the concatenated loops of the topology): original position.
+    origin: Vec<DVec2>,
+    /// Per loop slot: arclength from the loop's first vertex.
+    arclength: Vec<f64>,
+    /// Loop of each slot.
+    slot_loop: Vec<u32>,
+    /// Per loop: first slot, and total length.
+    loop_start: Vec<u32>,
+    loop_length: Vec<f64>,
+    /// Per vertex: its slot if it is a movable boundary vertex, else u32::MAX.
+    slot_of: Vec<u32>,
+}
+
+impl BoundaryGeometry {
+    /// Records the boundary loops of `topo` at `points`.
+    pub fn new(points: &[DVec2], topo: &Topology, features: &Features) -> BoundaryGeometry {
+        let mut g = BoundaryGeometry {
+            origin: Vec::new(),
+            arclength: Vec::new(),
+            slot_loop: Vec::new(),
+            loop_start: Vec::new(),
+            loop_length: Vec::new(),
+            slot_of: vec![u32::MAX; topo.vertex_count()],
+        };
+        for (li, lp) in topo.boundary_loops().enumerate() {
+            g.loop_start.push(g.origin.len() as u32);
+            let mut s = 0.0;
+            for (k, &v) in lp.iter().enumerate() {
+                let slot = g.origin.len() as u32;
+                if k > 0 {
+                    s += (points[v as usize] - points[lp[k - 1] as usize]).length();
+                }
+                g.origin.push(points[v as usize]);
+                g.arclength.push(s);
+                g.slot_loop.push(li as u32);
+                if features.is_movable(v as usize) && features.is_boundary(v as usize) {
+                    g.slot_of[v as usize] = slot;
+                }
+            }
+            s += (points[lp[0] as usize] - points[lp[lp.len() - 1] as usize]).length();
+            g.loop_length.push(s);
+        }
+        g.loop_start.push(g.origin.len() as u32);
+        g
+    }
+
+    /// Initial slot parameters (the original arclengths).
+    pub fn initial_params(&self) -> Vec<f64> {
+        self.arclength.clone()
+    }
+
+    /// Slot of movable boundary vertex `v`.
+    pub fn slot(&self, v: usize) -> Option<usize> {
+        let s = self.slot_of[v];
+        (s != u32::MAX).then_some(s as usize)
+    }
+
+    fn loop_slots(&self, l: usize) -> (usize, usize) {
+        (self.loop_start[l] as usize, self.loop_start[l + 1] as usize)
+    }
+
+    /// Point of loop `l` at arclength `s` (taken modulo the loop length).
+    pub fn eval(&self, l: usize, s: f64) -> DVec2 {
+        let (a, b) = self.loop_slots(l);
+        let len = self.loop_length[l];
+        let s = s.rem_euclid(len);
+        let cum = &self.arclength[a..b];
+        // Last slot whose arclength is <= s.
+        let i = cum.partition_point(|&c| c <= s).saturating_sub(1);
+        let p0 = self.origin[a + i];
+        let (p1, end) =
+            if i + 1 < cum.len() { (self.origin[a + i + 1], cum[i + 1]) } else { (self.origin[a], len) };
+        let seg = end - cum[i];
+        if seg <= 0.0 {
+            return p0;
+        }
+        p0 + (p1 - p0) * ((s - cum[i]) / seg).clamp(0.0, 1.0)
+    }
+
+    /// Arclength of the point nearest `q` on loop `l` within the unwrapped range [lo, hi].
+    fn project(&self, l: usize, q: DVec2, lo: f64, hi: f64) -> f64 {
+        let (a, b) = self.loop_slots(l);
+        let len = self.loop_length[l];
+        let count = b - a;
+        let mut best = (f64::INFINITY, lo);
+        // Walk the segments from the one containing lo until past hi (at most once round).
+        let start = self.arclength[a..b].partition_point(|&c| c <= lo.rem_euclid(len)).saturating_sub(1);
+        let mut base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
+        for k in 0..=count {
+            let i = (start + k) % count;
+            if k > 0 && i == 0 {
+                base += len;
+            }
+            let s0 = base + self.arclength[a + i];
+            let s1 = base + if i + 1 < count { self.arclength[a + i + 1] } else { len };
+            if s0 > hi {
+                break;
+            }
+            let (p0, p1) = (self.origin[a + i], self.origin[a + (i + 1) % count]);
+            let d = p1 - p0;
+            let t = if d.length_squared() > 0.0 {
+                ((q - p0).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let s = (s0 + t * (s1 - s0)).clamp(lo, hi);
+            let dist = (self.eval(l, s) - q).length_squared();
+            if dist < best.0 {
+                best = (dist, s);
+            }
+        }
+        best.1
+    }
+}
+
+/// One boundary update of movable boundary vertex `v`: new position, new slot parameter and
+/// the vertex's torsion energy (1/2 theta^2 of its one interior angle) at the old positions.
+pub fn update(
+    points: &[DVec2],
+    topo: &Topology,
+    geometry: &BoundaryGeometry,
+    params: &[f64],
+    v: usize,
+    mode: BoundaryMode,
+    lambda: f64,
+) -> (DVec2, f64, f64) {
+    let p = points[v];
+    let Some(slot) = geometry.slot(v) else { return (p, 0.0, 0.0) };
+    let s = params[slot];
+    let ring = topo.ring(v);
+    if ring.len() != 3 {
+        return (p, s, 0.0);
+    }
+    let (n0, n1, n2) = (points[ring[0] as usize], points[ring[1] as usize], points[ring[2] as usize]);
+    let Some(theta) = bisecting_rotation(p, n1, n0, n2) else { return (p, s, 0.0) };
+    let energy = 0.5 * theta * theta;
+
+    // Unwrapped arclength range between the boundary neighbours (previous slot .. next slot).
+    let l = geometry.slot_loop[slot] as usize;
+    let (a, b) = geometry.loop_slots(l);
+    let count = b - a;
+    let len = geometry.loop_length[l];
+    let k = slot - a;
+    let prev_slot = a + (k + count - 1) % count;
+    let next_slot = a + (k + 1) % count;
+    let s_prev = params[prev_slot];
+    let mut s_next = params[next_slot];
+    while s_next <= s_prev {
+        s_next += len;
+    }
+    let mut s_cur = s;
+    while s_cur < s_prev {
+        s_cur += len;
+    }
+    let margin = MARGIN * (s_next - s_prev);
+    let (lo, hi) = (s_prev + margin, s_next - margin);
+    if !(lo < hi) {
+        return (p, s, energy);
+    }
+
+    let target = match mode {
+        BoundaryMode::Fixed => return (p, s, energy),
+        BoundaryMode::Slide => {
+            // f(s_prev) < 0 < f(s_next): v at n0 must turn clockwise onto the bisector, at n2
+            // counter-clockwise. Bisection finds the sign change.
+            let f = |t: f64| bisecting_rotation(geometry.eval(l, t), n1, n0, n2).unwrap_or(0.0);
+            let (mut x0, mut x1) = (s_prev, s_next);
+            for _ in 0..60 {
+                let mid = 0.5 * (x0 + x1);
+                if f(mid) < 0.0 {
+                    x0 = mid;
+                } else {
+                    x1 = mid;
+                }
+                if x1 - x0 <= 1e-13 * len {
+                    break;
+                }
+            }
+            0.5 * (x0 + x1)
+        }
+        BoundaryMode::Snap => {
+            let rotated = rotate_about(p, n1, theta);
+            geometry.project(l, rotated, lo, hi)
+        }
+    };
+    let target = target.clamp(lo, hi);
+    let s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi).rem_euclid(len);
+    (geometry.eval(l, s_new), s_new, energy)
+}

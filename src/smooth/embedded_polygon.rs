@@ -1,0 +1,135 @@
+//! The embedded polygon update of an interior vertex (Sections 3.1-3.2).
+//!
+//! Readings of the paper's formulas (measured, see DESIGN.md section 5):
+//! - Embedded polygon: the edge-neighbours of v in counter-clockwise order (valence n gives n
+//!   corners); adding the quads' diagonal vertices is markedly less robust.
+//! - Eqs. 4-5: at corner P with a = v - P, b = previous neighbour - P and c = next neighbour
+//!   - P, the interior angle is the counter-clockwise sweep from c to b. theta is the *signed*
+//!   rotation turning a onto that angle's bisector, and the candidate is v rotated about P by
+//!   theta (so |a_i - P| = |v - P|). This equals Eq. 4 while the spoke is inside the angle and
+//!   keeps its sign on tangled input, where Eq. 4's difference of arccosines loses it.
+//! - Eq. 7 as printed, w_i = 1 - |theta_i| / sum |theta_j|, normalized by sum w_i. It damps
+//!   the update; weights proportional to |theta| blow up on graded meshes.
+//! - Eq. 8 as v' = v + lambda (sum w_i a_i / sum w_i - v): read literally it collapses the
+//!   mesh in one sweep. The lambda step is applied by the caller.
+
+use glam::DVec2;
+use std::f64::consts::TAU;
+
+/// Signed rotation about `p` that turns `v - p` onto the bisector of the interior angle at
+/// `p`, which is the counter-clockwise sweep from `next - p` to `prev - p` (Eq. 4). `None`
+/// when an edge is degenerate.
+#[inline]
+pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
+    let a = v - p;
+    let b = prev - p;
+    let c = next - p;
+    if a == DVec2::ZERO || b == DVec2::ZERO || c == DVec2::ZERO {
+        return None;
+    }
+    let mut sweep = c.perp_dot(b).atan2(c.dot(b));
+    if sweep < 0.0 {
+        sweep += TAU;
+    }
+    let bisector = DVec2::from_angle(0.5 * sweep).rotate(c);
+    Some(a.perp_dot(bisector).atan2(a.dot(bisector)))
+}
+
+/// Eq. 5: `v` rotated about `p` by `theta`.
+#[inline]
+pub fn rotate_about(v: DVec2, p: DVec2, theta: f64) -> DVec2 {
+    p + DVec2::from_angle(theta).rotate(v - p)
+}
+
+/// The weighted bisector position of interior vertex `v` (Eqs. 4-8 with lambda = 1) and its
+/// torsion energy (Eq. 1 with K = 1) at the current positions.
+pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
+    let n = ring.len();
+    let p = points[v];
+    // Valence is small (typically 3-6): fixed-size scratch, no allocation.
+    const MAX: usize = 32;
+    if n < 2 || n > MAX {
+        return (p, 0.0);
+    }
+    let mut cand = [DVec2::ZERO; MAX];
+    let mut theta = [f64::NAN; MAX];
+    let (mut sum_abs, mut energy) = (0.0, 0.0);
+    for i in 0..n {
+        let corner = points[ring[i] as usize];
+        let prev = points[ring[(i + n - 1) % n] as usize];
+        let next = points[ring[(i + 1) % n] as usize];
+        if let Some(t) = bisecting_rotation(p, corner, prev, next) {
+            theta[i] = t;
+            cand[i] = rotate_about(p, corner, t);
+            sum_abs += t.abs();
+            energy += 0.5 * t * t;
+        }
+    }
+    if sum_abs == 0.0 {
+        return (p, energy);
+    }
+    let (mut acc, mut wsum) = (DVec2::ZERO, 0.0);
+    for i in 0..n {
+        if theta[i].is_nan() {
+            continue;
+        }
+        let w = 1.0 - theta[i].abs() / sum_abs;
+        acc += w * cand[i];
+        wsum += w;
+    }
+    // A single usable corner has weight 0: follow its candidate alone.
+    if wsum <= f64::EPSILON {
+        let count = theta[..n].iter().filter(|t| !t.is_nan()).count() as f64;
+        let mean = (0..n).filter(|&i| !theta[i].is_nan()).map(|i| cand[i]).sum::<DVec2>() / count;
+        return (mean, energy);
+    }
+    (acc / wsum, energy)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_4;
+
+    #[test]
+    fn rotation_bisects_the_interior_angle() {
+        // Corner at origin, next neighbour on +x, previous on +y: the bisector is at 45 degrees.
+        let p = DVec2::ZERO;
+        let next = DVec2::new(1.0, 0.0);
+        let prev = DVec2::new(0.0, 1.0);
+        let v = DVec2::new(1.0, 0.2);
+        let t = bisecting_rotation(v, p, prev, next).unwrap();
+        let expected = FRAC_PI_4 - 0.2f64.atan();
+        assert!((t - expected).abs() < 1e-14);
+        let r = rotate_about(v, p, t);
+        assert!((r.x - r.y).abs() < 1e-14 && (r.length() - v.length()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn rotation_keeps_its_sign_outside_the_angle() {
+        // Spoke below the next edge (a tangled configuration): rotate counter-clockwise.
+        let t = bisecting_rotation(DVec2::new(1.0, -0.5), DVec2::ZERO, DVec2::Y, DVec2::X).unwrap();
+        assert!((t - (FRAC_PI_4 + 0.5f64.atan())).abs() < 1e-14);
+    }
+
+    #[test]
+    fn regular_star_is_a_fixed_point_with_zero_energy() {
+        let mut points = vec![DVec2::ZERO];
+        for k in 0..5 {
+            points.push(DVec2::from_angle(k as f64 * TAU / 5.0));
+        }
+        let (t, e) = target(&points, 0, &[1, 2, 3, 4, 5]);
+        assert!(t.length() < 1e-14 && e < 1e-28);
+    }
+
+    #[test]
+    fn off_centre_vertex_moves_towards_the_centre() {
+        let mut points = vec![DVec2::new(0.3, 0.1)];
+        for k in 0..4 {
+            points.push(DVec2::from_angle(k as f64 * TAU / 4.0));
+        }
+        let (t, e) = target(&points, 0, &[1, 2, 3, 4]);
+        assert!(t.length() < points[0].length());
+        assert!(e > 0.0);
+    }
+}

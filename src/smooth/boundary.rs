@@ -186,7 +186,7 @@ pub fn update(
     }
     let margin = MARGIN * (s_next - s_prev);
     let (lo, hi) = (s_prev + margin, s_next - margin);
-    if !(lo < hi) {
+    if lo >= hi || lo.is_nan() {
         return (p, s, energy);
     }
 

@@ -52,15 +52,6 @@ const COTAN_WEIGHT_FLOOR: f64 = 1e-3;
 mod tests {
     use super::*;
 
-    /// Centre of a 2x2 grid with ring E, NE, N, NW, W, SW, S, SE around vertex 0.
-    fn grid_star(centre: DVec2) -> (Vec<DVec2>, Vec<u32>) {
-        let mut points = vec![centre];
-        for (x, y) in [(1., 0.), (1., 1.), (0., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (0., -1.), (1., -1.)] {
-            points.push(DVec2::new(x, y));
-        }
-        (points, (1..=8).collect())
-    }
-
     #[test]
     fn uniform_is_the_mean_of_the_edge_neighbours() {
         let points = vec![DVec2::new(0.3, -0.2), DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y];

@@ -38,6 +38,9 @@ pub struct Topology {
     quad_offsets: Vec<u32>,
     /// Quads incident to each vertex.
     vertex_quads: Vec<u32>,
+    colour_offsets: Vec<u32>,
+    /// Vertices with a ring, grouped so that no two vertices of a group share a quad.
+    colours: Vec<u32>,
 }
 
 impl Topology {
@@ -107,6 +110,7 @@ impl Topology {
         }
 
         let (loop_offsets, loops) = trace_loops(quads, &kind, &boundary_next, &quad_offsets, &vertex_quads);
+        let (colour_offsets, colours) = colour_classes(&kind, &full_offsets, &full_ring);
         Topology {
             kind,
             quad_count,
@@ -118,7 +122,20 @@ impl Topology {
             loops,
             quad_offsets,
             vertex_quads,
+            colour_offsets,
+            colours,
         }
+    }
+
+    /// Number of colour classes.
+    pub fn colour_count(&self) -> usize {
+        self.colour_offsets.len() - 1
+    }
+
+    /// Colour class `c`: vertices (ascending) no two of which share a quad, so they can be
+    /// moved at the same time without one reading a position another is changing.
+    pub fn colour_class(&self, c: usize) -> &[u32] {
+        &self.colours[self.colour_offsets[c] as usize..self.colour_offsets[c + 1] as usize]
     }
 
     /// Number of vertices.
@@ -176,6 +193,49 @@ fn incident_wedges(quads: &[[u32; 4]], incident: &[u32], v: usize) -> Vec<(u32, 
             (q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4])
         })
         .collect()
+}
+
+/// Greedy colouring of the vertices that have a ring, over the "shares a quad" graph (edge
+/// and diagonal neighbours), in vertex order so the result is deterministic.
+fn colour_classes(kind: &[VertexKind], full_offsets: &[u32], full_ring: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let n = kind.len();
+    let mut colour = vec![u32::MAX; n];
+    let mut taken: Vec<bool> = Vec::new();
+    let mut count = 0u32;
+    for v in 0..n {
+        if !matches!(kind[v], VertexKind::Interior | VertexKind::Boundary) {
+            continue;
+        }
+        taken.clear();
+        taken.resize(count as usize + 1, false);
+        for &u in &full_ring[full_offsets[v] as usize..full_offsets[v + 1] as usize] {
+            let c = colour[u as usize];
+            if c != u32::MAX {
+                taken[c as usize] = true;
+            }
+        }
+        let c = taken.iter().position(|&t| !t).unwrap_or(count as usize) as u32;
+        colour[v] = c;
+        count = count.max(c + 1);
+    }
+    let mut offsets = vec![0u32; count as usize + 1];
+    for &c in &colour {
+        if c != u32::MAX {
+            offsets[c as usize + 1] += 1;
+        }
+    }
+    for c in 0..count as usize {
+        offsets[c + 1] += offsets[c];
+    }
+    let mut fill = offsets.clone();
+    let mut members = vec![0u32; offsets[count as usize] as usize];
+    for (v, &c) in colour.iter().enumerate() {
+        if c != u32::MAX {
+            members[fill[c as usize] as usize] = v as u32;
+            fill[c as usize] += 1;
+        }
+    }
+    (offsets, members)
 }
 
 /// Orders the wedges around a vertex counter-clockwise (each wedge's `prev` is the next
@@ -313,6 +373,24 @@ mod tests {
         assert_eq!(t.kind(1), VertexKind::Boundary);
         assert_eq!(t.ring(1), &[2, 4, 0]);
         assert_eq!(t.quad_count(0), 1);
+    }
+
+    #[test]
+    fn colour_classes_never_share_a_quad_and_cover_every_vertex() {
+        let m = grid(5, 4);
+        let t = Topology::new(&m);
+        let mut seen = vec![0; t.vertex_count()];
+        for c in 0..t.colour_count() {
+            for &v in t.colour_class(c) {
+                seen[v as usize] += 1;
+                for &u in t.full_ring(v as usize) {
+                    assert!(!t.colour_class(c).contains(&u), "{v} and {u} share colour {c}");
+                }
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1));
+        // A structured grid needs exactly four colours.
+        assert_eq!(t.colour_count(), 4);
     }
 
     #[test]

@@ -19,6 +19,7 @@
 
 use super::BoundaryMode;
 use super::embedded_polygon::{bisecting_rotation, rotate_about};
+use super::fidelity::chord_deviation;
 use crate::features::Features;
 use crate::topology::Topology;
 use glam::DVec2;
@@ -87,8 +88,44 @@ impl BoundaryGeometry {
         (s != u32::MAX).then_some(s as usize)
     }
 
-    fn loop_slots(&self, l: usize) -> (usize, usize) {
+    /// Slot range of loop `l`.
+    pub(crate) fn loop_slots(&self, l: usize) -> (usize, usize) {
         (self.loop_start[l] as usize, self.loop_start[l + 1] as usize)
+    }
+
+    /// Number of loops.
+    pub fn loop_count(&self) -> usize {
+        self.loop_length.len()
+    }
+
+    /// Original length of loop `l`.
+    pub fn loop_length(&self, l: usize) -> f64 {
+        self.loop_length[l]
+    }
+
+    /// Loop of slot `slot`.
+    pub fn slot_loop(&self, slot: usize) -> usize {
+        self.slot_loop[slot] as usize
+    }
+
+    /// Calls `f` with every original vertex of loop `l` whose arclength lies strictly between
+    /// the unwrapped arclengths `s0 < s1` (at most one turn).
+    pub fn for_each_vertex_between(&self, l: usize, s0: f64, s1: f64, mut f: impl FnMut(DVec2)) {
+        let (a, b) = self.loop_slots(l);
+        let len = self.loop_length[l];
+        let count = b - a;
+        let base = s0 - s0.rem_euclid(len);
+        let start = self.arclength[a..b].partition_point(|&c| c <= s0.rem_euclid(len));
+        for k in 0..count {
+            let i = (start + k) % count;
+            let s = base + self.arclength[a + i] + if start + k >= count { len } else { 0.0 };
+            if s >= s1 {
+                break;
+            }
+            if s > s0 {
+                f(self.origin[a + i]);
+            }
+        }
     }
 
     /// Point of loop `l` at arclength `s` (taken modulo the loop length).
@@ -147,14 +184,16 @@ impl BoundaryGeometry {
 
 /// One boundary update of movable boundary vertex `v`: new position, new slot parameter and
 /// the vertex's torsion energy (1/2 theta^2 of its one interior angle) at the old positions.
+#[allow(clippy::too_many_arguments)]
 pub fn update(
     points: &[DVec2],
     topo: &Topology,
     geometry: &BoundaryGeometry,
     params: &[f64],
     v: usize,
-    mode: BoundaryMode,
+    loop_modes: &[BoundaryMode],
     lambda: f64,
+    max_deviation: Option<f64>,
 ) -> (DVec2, f64, f64) {
     let p = points[v];
     let Some(slot) = geometry.slot(v) else { return (p, 0.0, 0.0) };
@@ -190,8 +229,8 @@ pub fn update(
         return (p, s, energy);
     }
 
-    let target = match mode {
-        BoundaryMode::Fixed => return (p, s, energy),
+    let target = match loop_modes[l] {
+        BoundaryMode::Fixed | BoundaryMode::Auto => return (p, s, energy),
         BoundaryMode::Slide => {
             // f(s_prev) > 0 > f(s_next): at s_prev v sits on n2 (the previous boundary vertex)
             // and must turn counter-clockwise onto the bisector, at s_next it sits on n0 and
@@ -217,6 +256,27 @@ pub fn update(
         }
     };
     let target = target.clamp(lo, hi);
-    let s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi).rem_euclid(len);
+    let mut s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi);
+    if let Some(tol) = max_deviation {
+        // Honour the shape tolerance: both new edges must stay within tol x their length of
+        // the original stretch they replace; otherwise shorten the step.
+        let within = |t: f64| {
+            [(s_prev, t), (t, s_next)].iter().all(|&(a, b)| {
+                let (n2o, o2n) = chord_deviation(geometry, l, a, b);
+                n2o.max(o2n) <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
+            })
+        };
+        let mut step = s_new - s_cur;
+        let mut accepted = false;
+        for _ in 0..8 {
+            if within(s_cur + step) {
+                accepted = true;
+                break;
+            }
+            step *= 0.5;
+        }
+        s_new = if accepted { s_cur + step } else { s_cur };
+    }
+    let s_new = s_new.rem_euclid(len);
     (geometry.eval(l, s_new), s_new, energy)
 }

@@ -4,26 +4,42 @@
 //! sweep), so a sweep runs in parallel and gives the same result on any number of threads.
 //! Interior vertices are moved by the chosen [`Method`]; boundary vertices by the embedded
 //! polygon's boundary rule (Section 3.3) in the chosen [`BoundaryMode`], whatever the method.
-//! Termination follows Section 3.2: the collective torsion-spring energy (Eq. 1, see
-//! [`energy`]) is computed every sweep and the run stops when |E_new - E_old| < tau, or at the
-//! iteration cap.
+//!
+//! A run (see [`Optimizer::run`]):
+//! 1. untangles inverted quads first ([`untangle`]), when the input has any;
+//! 2. sweeps colour class by colour class (vertices of one class share no quad, so a class
+//!    moves in parallel and the result does not depend on the thread count), each vertex
+//!    taking its method's target through the guard of [`guard`] unless that is turned off;
+//! 3. stops on the collective torsion-spring energy of Eq. 1 ([`energy`]): by default when
+//!    its change per movable vertex falls below `tau` (independent of mesh size), or with
+//!    `tau_absolute` when |E_new - E_old| < tau as in the paper; or at the iteration cap;
+//! 4. returns the best iterate seen (the input included), ranked by inverted count, then
+//!    minimum scaled Jacobian, then average ([`QualityStats::better_than`]).
+//!
+//! With [`BoundaryMode::Auto`] both boundary approaches are run and the better result kept,
+//! refined per boundary loop on small meshes.
 
 pub mod angle_based;
 pub mod boundary;
 pub mod embedded_polygon;
 pub mod energy;
+pub mod fidelity;
+pub mod guard;
 pub mod laplacian;
+pub mod untangle;
 
 use crate::error::{Error, Result};
 use crate::features::Features;
 use crate::mesh::QuadMesh;
-use crate::quality::QualityStats;
+use crate::quality::{QualityStats, corners, scaled_jacobian};
 use crate::topology::Topology;
 use boundary::BoundaryGeometry;
+pub use fidelity::BoundaryFidelity;
 use glam::DVec2;
 use rayon::prelude::*;
 use std::str::FromStr;
 use std::time::Instant;
+pub use untangle::{TangleReason, TangledQuad};
 
 /// How interior vertices are moved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -74,16 +90,19 @@ pub enum BoundaryMode {
     /// Boundary vertices never move.
     Fixed,
     /// Approach 2: move along the original boundary polyline only.
-    #[default]
     Slide,
     /// Approach 1: rotate to bisect, then project back onto the original boundary between the
     /// vertex's two boundary neighbours.
     Snap,
+    /// Run both approaches and keep the better result, per boundary loop on small meshes.
+    #[default]
+    Auto,
 }
 
 impl BoundaryMode {
     /// Every mode.
-    pub const ALL: [BoundaryMode; 3] = [BoundaryMode::Fixed, BoundaryMode::Slide, BoundaryMode::Snap];
+    pub const ALL: [BoundaryMode; 4] =
+        [BoundaryMode::Fixed, BoundaryMode::Slide, BoundaryMode::Snap, BoundaryMode::Auto];
 
     /// The short name used on the command line.
     pub fn name(self) -> &'static str {
@@ -91,6 +110,7 @@ impl BoundaryMode {
             BoundaryMode::Fixed => "fixed",
             BoundaryMode::Slide => "slide",
             BoundaryMode::Snap => "snap",
+            BoundaryMode::Auto => "auto",
         }
     }
 }
@@ -102,13 +122,19 @@ impl FromStr for BoundaryMode {
             "fixed" => Ok(BoundaryMode::Fixed),
             "slide" => Ok(BoundaryMode::Slide),
             "snap" => Ok(BoundaryMode::Snap),
-            _ => Err(format!("unknown boundary mode '{s}' (expected fixed, slide or snap)")),
+            "auto" => Ok(BoundaryMode::Auto),
+            _ => Err(format!("unknown boundary mode '{s}' (expected fixed, slide, snap or auto)")),
         }
     }
 }
 
-/// Optimization options. The defaults reproduce the paper (lambda = 1, tau = 1e-4, feature
-/// angle 45 degrees, boundary Approach 2).
+/// Optimization options.
+///
+/// The defaults keep the paper's method and parameters (lambda = 1, feature angle 45
+/// degrees) and add what makes the result never worse than the input: guarded moves,
+/// untangling, the automatic boundary mode and a size-independent stopping rule. Set
+/// `guard = false`, `untangle = false`, `boundary = Slide` and `tau_absolute = true` with
+/// `tau = 1e-4` to reproduce the plain method of the paper.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     /// Interior smoothing method.
@@ -117,43 +143,83 @@ pub struct Options {
     pub boundary: BoundaryMode,
     /// Step factor of Eq. 8, in (0, 1].
     pub lambda: f64,
-    /// Stop when the collective energy changes by less than this between sweeps (>= 0).
+    /// Stopping threshold on the energy change between sweeps (>= 0): per movable vertex by
+    /// default, absolute (the paper's tau) when `tau_absolute` is set.
     pub tau: f64,
+    /// Compare `tau` with the absolute change of the collective energy, as the paper does;
+    /// this depends on mesh size (large meshes may never reach it).
+    pub tau_absolute: bool,
     /// Iteration cap (>= 1).
     pub max_iterations: usize,
     /// A boundary vertex whose turning angle differs from 180 degrees by more than this is a
     /// corner and never moves, in degrees within [0, 180].
     pub feature_angle_deg: f64,
+    /// Guarded moves: a vertex with a valid star may not lower its star's minimum scaled
+    /// Jacobian below min(current, `guard_floor`).
+    pub guard: bool,
+    /// The guard's floor, in (0, 1].
+    pub guard_floor: f64,
+    /// Untangle inverted quads before smoothing.
+    pub untangle: bool,
+    /// Largest allowed distance between a new boundary edge and the stretch of the original
+    /// boundary it replaces, relative to that edge's length (`None`: unlimited).
+    pub max_boundary_deviation: Option<f64>,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             method: Method::EmbeddedPolygon,
-            boundary: BoundaryMode::Slide,
+            boundary: BoundaryMode::Auto,
             lambda: 1.0,
-            tau: 1e-4,
+            tau: 1e-6,
+            tau_absolute: false,
             max_iterations: 1000,
             feature_angle_deg: 45.0,
+            guard: true,
+            guard_floor: 0.05,
+            untangle: true,
+            max_boundary_deviation: None,
         }
     }
 }
 
 impl Options {
+    /// The paper's plain method: no guard, no untangling, Approach 2 on the boundary, the
+    /// absolute energy threshold tau = 1e-4.
+    pub fn paper() -> Options {
+        Options {
+            boundary: BoundaryMode::Slide,
+            tau: 1e-4,
+            tau_absolute: true,
+            guard: false,
+            untangle: false,
+            ..Options::default()
+        }
+    }
+
     /// Checks every option's range, naming the first bad one.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name, reason: &str| Err(Error::InvalidOption { name, reason: reason.to_string() });
+        let bad = |name, reason: String| Err(Error::InvalidOption { name, reason });
         if !(self.lambda > 0.0 && self.lambda <= 1.0) {
-            return bad("lambda", &format!("{} is not in (0, 1]", self.lambda));
+            return bad("lambda", format!("{} is not in (0, 1]", self.lambda));
         }
         if !(self.tau >= 0.0 && self.tau.is_finite()) {
-            return bad("tau", &format!("{} is not a finite number >= 0", self.tau));
+            return bad("tau", format!("{} is not a finite number >= 0", self.tau));
         }
         if self.max_iterations == 0 {
-            return bad("max_iterations", "must be at least 1");
+            return bad("max_iterations", "must be at least 1".into());
         }
         if !(0.0..=180.0).contains(&self.feature_angle_deg) {
-            return bad("feature_angle_deg", &format!("{} is not in [0, 180]", self.feature_angle_deg));
+            return bad("feature_angle_deg", format!("{} is not in [0, 180]", self.feature_angle_deg));
+        }
+        if !(self.guard_floor > 0.0 && self.guard_floor <= 1.0) {
+            return bad("guard_floor", format!("{} is not in (0, 1]", self.guard_floor));
+        }
+        if let Some(d) = self.max_boundary_deviation {
+            if d.is_nan() || d < 0.0 {
+                return bad("max_boundary_deviation", format!("{d} is not a number >= 0"));
+            }
         }
         Ok(())
     }
@@ -162,14 +228,18 @@ impl Options {
 /// Progress of a run, passed to the progress callback after every sweep.
 #[derive(Clone, Copy, Debug)]
 pub struct Progress {
-    /// Sweeps done so far.
+    /// Sweeps done so far in the current pass.
     pub iteration: usize,
     /// The iteration cap.
     pub max_iterations: usize,
-    /// Collective energy before the last sweep.
+    /// Collective energy measured during the last sweep.
     pub energy: f64,
     /// |E_new - E_old| of the last sweep.
     pub energy_change: f64,
+    /// Current pass (1-based): `Auto` runs several passes.
+    pub pass: usize,
+    /// Number of passes planned.
+    pub passes: usize,
 }
 
 /// What a run did.
@@ -179,9 +249,11 @@ pub struct Report {
     pub input: QualityStats,
     /// Quality after.
     pub output: QualityStats,
-    /// Sweeps performed.
+    /// Sweeps performed (of the pass whose result was kept).
     pub iterations: usize,
-    /// Whether the energy criterion was met (false: iteration cap or cancelled).
+    /// Untangling sweeps performed.
+    pub untangle_sweeps: usize,
+    /// Whether the energy criterion was met (false: iteration cap reached or cancelled).
     pub converged: bool,
     /// Whether the progress callback cancelled the run.
     pub cancelled: bool,
@@ -197,6 +269,12 @@ pub struct Report {
     pub corners: usize,
     /// Vertices the optimizer was allowed to move.
     pub movable: usize,
+    /// Boundary mode used for each boundary loop (in [`Topology::boundary_loops`] order).
+    pub loop_modes: Vec<BoundaryMode>,
+    /// How far the boundary moved from the original.
+    pub fidelity: BoundaryFidelity,
+    /// Quads still inverted in the output, and why.
+    pub tangled: Vec<TangledQuad>,
 }
 
 /// Optimizes `mesh` in place with `options`. Builds the topology; to optimize many meshes
@@ -214,11 +292,51 @@ pub struct Optimizer {
 /// Per-vertex result of a sweep.
 #[derive(Clone, Copy, Debug, Default)]
 struct Update {
+    vertex: u32,
     position: DVec2,
     /// Boundary arclength parameter (unused for interior vertices).
     param: f64,
-    /// Torsion energy of the vertex at the old positions.
+    /// Torsion energy of the vertex before its move.
     energy: f64,
+}
+
+/// Result of one pass (one boundary-mode assignment).
+struct Pass {
+    points: Vec<DVec2>,
+    params: Vec<f64>,
+    stats: QualityStats,
+    iterations: usize,
+    untangle_sweeps: usize,
+    converged: bool,
+    cancelled: bool,
+    initial_energy: f64,
+    final_energy: f64,
+}
+
+/// Minimum differences that count when ranking iterates by minimum scaled Jacobian; closer
+/// minima are a tie decided by the average, so a negligible gain of the worst quad does not
+/// beat a large gain of the average.
+const MIN_TIE: f64 = 1e-3;
+
+/// Whether `candidate` should replace `best`, given the `input` it may never be worse than.
+fn improves(candidate: &QualityStats, best: &QualityStats, input: &QualityStats) -> bool {
+    if candidate.inverted > input.inverted || candidate.min < input.min {
+        return false;
+    }
+    if candidate.inverted != best.inverted {
+        return candidate.inverted < best.inverted;
+    }
+    if (candidate.min - best.min).abs() > MIN_TIE {
+        return candidate.min > best.min;
+    }
+    candidate.avg > best.avg
+}
+
+/// Quality statistics, computed in parallel but summed in a fixed order.
+fn stats_of(points: &[DVec2], quads: &[[u32; 4]], scratch: &mut Vec<f64>) -> QualityStats {
+    scratch.clear();
+    scratch.par_extend(quads.par_iter().map(|q| scaled_jacobian(&corners(points, q))));
+    QualityStats::from_values(scratch)
 }
 
 impl Optimizer {
@@ -234,7 +352,7 @@ impl Optimizer {
 
     /// Optimizes `mesh` (which must have the connectivity this optimizer was built for). The
     /// optional `progress` callback runs after every sweep; returning `false` cancels, keeping
-    /// the positions reached so far.
+    /// the best positions reached so far.
     pub fn run(
         &self,
         mesh: &mut QuadMesh,
@@ -242,128 +360,287 @@ impl Optimizer {
         mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
         options.validate()?;
-        if mesh.points().len() != self.topology.vertex_count() {
+        let topo = &self.topology;
+        if mesh.points().len() != topo.vertex_count() {
             return Err(Error::VertexCountMismatch {
-                expected: self.topology.vertex_count(),
+                expected: topo.vertex_count(),
                 got: mesh.points().len(),
             });
         }
         let start = Instant::now();
         let input = mesh.quality();
-        let topo = &self.topology;
         let features = Features::new(mesh, topo, options.feature_angle_deg, options.boundary);
         let geometry = BoundaryGeometry::new(mesh.points(), topo, &features);
-        let movable = features.movable_vertices();
-        // Arclength of every boundary loop slot on the original polyline.
-        let mut params = geometry.initial_params();
-        let mut updates = vec![Update::default(); movable.len()];
-        let sweep_ctx = Sweep { topo, features: &features, geometry: &geometry, options };
+        let loops = topo.loop_count();
+        let ctx = RunContext {
+            topo,
+            features: &features,
+            geometry: &geometry,
+            options,
+            quads: mesh.quads(),
+            input,
+        };
 
-        let mut energy_old = f64::NAN;
-        let mut initial_energy = f64::NAN;
+        let (pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
+            ctx.auto(mesh.points(), &mut progress)
+        } else {
+            let modes = vec![options.boundary; loops];
+            (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
+        };
+
+        let mean_edge = mean_edge_length(mesh.points(), mesh.quads());
+        let fidelity = fidelity::measure(&geometry, &pass.params, mean_edge);
+        mesh.points_mut().copy_from_slice(&pass.points);
+        Ok(Report {
+            input,
+            output: pass.stats,
+            iterations: pass.iterations,
+            untangle_sweeps: pass.untangle_sweeps,
+            converged: pass.converged,
+            cancelled: pass.cancelled,
+            initial_energy: pass.initial_energy,
+            final_energy: pass.final_energy,
+            seconds: start.elapsed().as_secs_f64(),
+            reoriented_quads: mesh.reoriented().len(),
+            corners: features.corner_count(),
+            movable: features.movable_vertices().len(),
+            loop_modes,
+            fidelity,
+            tangled: untangle::diagnose(mesh.points(), mesh.quads(), &features),
+        })
+    }
+}
+
+/// Mean length of the quad edges (each interior edge counted twice, which does not matter
+/// for a scale).
+fn mean_edge_length(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
+    let total: f64 = quads
+        .iter()
+        .map(|q| {
+            (0..4).map(|i| (points[q[(i + 1) % 4] as usize] - points[q[i] as usize]).length()).sum::<f64>()
+        })
+        .sum();
+    total / (4 * quads.len()).max(1) as f64
+}
+
+/// Everything a pass reads besides the positions.
+struct RunContext<'a> {
+    topo: &'a Topology,
+    features: &'a Features,
+    geometry: &'a BoundaryGeometry,
+    options: &'a Options,
+    quads: &'a [[u32; 4]],
+    input: QualityStats,
+}
+
+/// Loops beyond which `Auto` decides for the whole mesh at once instead of per loop.
+const AUTO_MAX_LOOPS: usize = 12;
+/// Vertices beyond which `Auto` decides for the whole mesh at once.
+const AUTO_MAX_VERTICES: usize = 50_000;
+
+impl RunContext<'_> {
+    /// `Auto`: slide and snap for the whole mesh, keep the better; then on small meshes try
+    /// switching each loop to the other approach, keeping every switch that improves.
+    fn auto(
+        &self,
+        start: &[DVec2],
+        progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> (Pass, Vec<BoundaryMode>) {
+        let loops = self.topo.loop_count();
+        let per_loop = loops > 1 && loops <= AUTO_MAX_LOOPS && start.len() <= AUTO_MAX_VERTICES;
+        let passes = 2 + if per_loop { loops } else { 0 };
+        let slide = vec![BoundaryMode::Slide; loops];
+        let snap = vec![BoundaryMode::Snap; loops];
+        let mut best = self.pass(start, &slide, (1, passes), progress);
+        let mut best_modes = slide;
+        if best.cancelled {
+            return (best, best_modes);
+        }
+        let other = self.pass(start, &snap, (2, passes), progress);
+        if improves(&other.stats, &best.stats, &self.input) || other.cancelled {
+            (best, best_modes) = (other, snap);
+        }
+        if per_loop && !best.cancelled {
+            for l in 0..loops {
+                let mut modes = best_modes.clone();
+                modes[l] =
+                    if modes[l] == BoundaryMode::Slide { BoundaryMode::Snap } else { BoundaryMode::Slide };
+                let p = self.pass(start, &modes, (3 + l, passes), progress);
+                let cancelled = p.cancelled;
+                if improves(&p.stats, &best.stats, &self.input) {
+                    (best, best_modes) = (p, modes);
+                }
+                if cancelled {
+                    best.cancelled = true;
+                    break;
+                }
+            }
+        }
+        (best, best_modes)
+    }
+
+    /// One full optimization from `start` with the given per-loop boundary modes.
+    fn pass(
+        &self,
+        start: &[DVec2],
+        loop_modes: &[BoundaryMode],
+        (pass, passes): (usize, usize),
+        progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Pass {
+        let opts = self.options;
+        let mut points = start.to_vec();
+        let mut params = self.geometry.initial_params();
+        let mut scratch = Vec::with_capacity(self.quads.len());
+        let mut untangle_sweeps = 0;
+        if opts.untangle && self.input.inverted > 0 {
+            untangle_sweeps = untangle::untangle(&mut points, self.quads, self.topo, self.features, 200);
+        }
+        let mut best_stats = self.input;
+        let mut best_points = start.to_vec();
+        let mut best_params = params.clone();
+        let current = stats_of(&points, self.quads, &mut scratch);
+        if improves(&current, &best_stats, &self.input) {
+            best_stats = current;
+            best_points.copy_from_slice(&points);
+        }
+
+        let movable = self.features.movable_vertices().len().max(1) as f64;
+        let largest_class =
+            (0..self.topo.colour_count()).map(|c| self.topo.colour_class(c).len()).max().unwrap_or(0);
+        let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
+        let (mut energy_old, mut initial_energy) = (f64::NAN, f64::NAN);
         let (mut iterations, mut converged, mut cancelled) = (0, false, false);
-        while iterations < options.max_iterations {
-            {
-                let (points, params) = (mesh.points(), &params);
-                updates.par_iter_mut().zip(movable.par_iter()).for_each(|(u, &v)| {
-                    *u = sweep_ctx.update(points, params, v as usize);
-                });
-            }
-            // Sequential sum: the same energy whatever the thread count.
-            let energy: f64 = updates.iter().map(|u| u.energy).sum();
-            if iterations == 0 {
-                initial_energy = energy;
-            }
-            let change = (energy - energy_old).abs();
-            if change < options.tau {
-                // The positions the energy was measured at are final.
-                converged = true;
-                energy_old = energy;
-                break;
-            }
-            let points = mesh.points_mut();
-            for (u, &v) in updates.iter().zip(&movable) {
-                points[v as usize] = u.position;
-                if let Some(slot) = geometry.slot(v as usize) {
-                    params[slot] = u.param;
+        while iterations < opts.max_iterations {
+            let mut energy = 0.0;
+            for c in 0..self.topo.colour_count() {
+                let class = self.topo.colour_class(c);
+                updates.clear();
+                {
+                    let (pts, prm) = (&points[..], &params[..]);
+                    updates.par_extend(
+                        class
+                            .par_iter()
+                            .filter(|&&v| self.features.is_movable(v as usize))
+                            .map(|&v| self.update(pts, prm, v as usize, loop_modes)),
+                    );
+                }
+                // Sequential: the same sum whatever the thread count.
+                for u in &updates {
+                    energy += u.energy;
+                    points[u.vertex as usize] = u.position;
+                    if let Some(slot) = self.geometry.slot(u.vertex as usize) {
+                        params[slot] = u.param;
+                    }
                 }
             }
             iterations += 1;
+            if iterations == 1 {
+                initial_energy = energy;
+            }
+            let stats = stats_of(&points, self.quads, &mut scratch);
+            if improves(&stats, &best_stats, &self.input) {
+                best_stats = stats;
+                best_points.copy_from_slice(&points);
+                best_params.copy_from_slice(&params);
+            }
+            let change = (energy - energy_old).abs();
             energy_old = energy;
+            let scaled = if opts.tau_absolute { change } else { change / movable };
             if let Some(cb) = progress.as_mut() {
                 let p = Progress {
                     iteration: iterations,
-                    max_iterations: options.max_iterations,
+                    max_iterations: opts.max_iterations,
                     energy,
                     energy_change: change,
+                    pass,
+                    passes,
                 };
                 if !cb(&p) {
                     cancelled = true;
                     break;
                 }
             }
+            if scaled < opts.tau {
+                converged = true;
+                break;
+            }
         }
-        let final_energy = if converged {
-            energy_old
-        } else {
-            let points = mesh.points();
-            movable.iter().map(|&v| sweep_ctx.update(points, &params, v as usize).energy).sum()
-        };
-        Ok(Report {
-            input,
-            output: mesh.quality(),
+        let final_energy = self.energy(&best_points);
+        Pass {
+            points: best_points,
+            params: best_params,
+            stats: best_stats,
             iterations,
+            untangle_sweeps,
             converged,
             cancelled,
             initial_energy: if initial_energy.is_nan() { final_energy } else { initial_energy },
             final_energy,
-            seconds: start.elapsed().as_secs_f64(),
-            reoriented_quads: mesh.reoriented().len(),
-            corners: features.corner_count(),
-            movable: movable.len(),
-        })
+        }
     }
-}
 
-/// Everything one vertex update reads besides the positions.
-struct Sweep<'a> {
-    topo: &'a Topology,
-    features: &'a Features,
-    geometry: &'a BoundaryGeometry,
-    options: &'a Options,
-}
+    /// Collective energy of the movable interior vertices at `points` (boundary vertices
+    /// contribute their one angle inside the sweep; here only the interior part is needed
+    /// for reporting the result).
+    fn energy(&self, points: &[DVec2]) -> f64 {
+        self.features
+            .movable_vertices()
+            .iter()
+            .filter(|&&v| !self.features.is_boundary(v as usize))
+            .map(|&v| energy::vertex_energy(points, v as usize, self.topo.ring(v as usize)))
+            .sum()
+    }
 
-impl Sweep<'_> {
-    fn update(&self, points: &[DVec2], params: &[f64], v: usize) -> Update {
-        if self.features.is_boundary(v) {
-            let (position, param, energy) = boundary::update(
+    fn update(&self, points: &[DVec2], params: &[f64], v: usize, loop_modes: &[BoundaryMode]) -> Update {
+        let opts = self.options;
+        let (target, param, energy) = if self.features.is_boundary(v) {
+            boundary::update(
                 points,
                 self.topo,
                 self.geometry,
                 params,
                 v,
-                self.options.boundary,
-                self.options.lambda,
-            );
-            return Update { position, param, energy };
-        }
-        let ring = self.topo.ring(v);
-        let (target, energy) = match self.options.method {
-            Method::EmbeddedPolygon => embedded_polygon::target(points, v, ring),
-            Method::Laplacian => {
-                (laplacian::uniform_target(points, ring), energy::vertex_energy(points, v, ring))
-            }
-            Method::Cotangent => {
-                (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
-            }
-            Method::AngleBased => (
-                angle_based::target(points, v, self.topo.full_ring(v)),
-                energy::vertex_energy(points, v, ring),
-            ),
+                loop_modes,
+                opts.lambda,
+                opts.max_boundary_deviation,
+            )
+        } else {
+            let ring = self.topo.ring(v);
+            let (target, energy) = match opts.method {
+                Method::EmbeddedPolygon => embedded_polygon::target(points, v, ring),
+                Method::Laplacian => {
+                    (laplacian::uniform_target(points, ring), energy::vertex_energy(points, v, ring))
+                }
+                Method::Cotangent => {
+                    (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
+                }
+                Method::AngleBased => (
+                    angle_based::target(points, v, self.topo.full_ring(v)),
+                    energy::vertex_energy(points, v, ring),
+                ),
+            };
+            let p = points[v];
+            (p + opts.lambda * (target - p), 0.0, energy)
         };
-        let p = points[v];
-        Update { position: p + self.options.lambda * (target - p), param: 0.0, energy }
+        if !opts.guard || target == points[v] {
+            return Update { vertex: v as u32, position: target, param, energy };
+        }
+        if self.features.is_boundary(v) {
+            // A boundary vertex must stay on the polyline: accept its move or stay.
+            let ok = guard::star_min(points, self.quads, self.topo, v, target)
+                >= guard::star_min(points, self.quads, self.topo, v, points[v]).min(opts.guard_floor)
+                || guard::star_min(points, self.quads, self.topo, v, points[v]) <= 0.0;
+            let (position, param) =
+                if ok { (target, param) } else { (points[v], current_param(self.geometry, params, v)) };
+            return Update { vertex: v as u32, position, param, energy };
+        }
+        let position = guard::guarded_position(points, self.quads, self.topo, v, target, opts.guard_floor);
+        Update { vertex: v as u32, position, param, energy }
     }
+}
+
+fn current_param(geometry: &BoundaryGeometry, params: &[f64], v: usize) -> f64 {
+    geometry.slot(v).map_or(0.0, |s| params[s])
 }
 
 #[cfg(test)]

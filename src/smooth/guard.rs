@@ -1,0 +1,111 @@
+//! Guarded moves: a vertex whose star (its incident quads) is valid may not move to a place
+//! that lowers its star's minimum scaled Jacobian below min(current value, floor).
+//!
+//! The paper's method ignores where v may go without folding its star, so on graded and
+//! anisotropic meshes it can lower the minimum quality or create inversions (DESIGN.md
+//! section 5). Vertices in a tangled star are not guarded, so untangling is never blocked.
+
+use crate::quality::{corners, scaled_jacobian};
+use crate::topology::Topology;
+use glam::DVec2;
+
+/// Step halvings tried before a guarded vertex stays where it is.
+const MAX_HALVINGS: usize = 8;
+
+/// Minimum scaled Jacobian of the quads around `v` with `v` placed at `at`.
+pub fn star_min(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize, at: DVec2) -> f64 {
+    let mut min = f64::INFINITY;
+    for &qi in topo.vertex_quads(v) {
+        let q = &quads[qi as usize];
+        let mut c = corners(points, q);
+        for (k, &u) in q.iter().enumerate() {
+            if u as usize == v {
+                c[k] = at;
+            }
+        }
+        min = min.min(scaled_jacobian(&c));
+    }
+    min
+}
+
+/// The position actually taken by `v` when it wants to go to `target`: the target itself if
+/// the star is tangled or stays acceptable, else the longest acceptable step among
+/// 1/2, 1/4, ... of the way.
+///
+/// When no step towards the target is acceptable, the smoothing direction is making the
+/// star's worst quad worse, and a guarded vertex would stay stuck there for good (measured:
+/// freshly untangled meshes stuck at a minimum near 0). It then tries the direction that
+/// raises the star's smallest corner area ([`super::untangle`]'s local program) and takes
+/// the longest step along it that strictly improves the star's minimum; else it stays.
+pub fn guarded_position(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    target: DVec2,
+    floor: f64,
+) -> DVec2 {
+    let p = points[v];
+    if target == p {
+        return p;
+    }
+    let current = star_min(points, quads, topo, v, p);
+    if current <= 0.0 {
+        return target;
+    }
+    let required = current.min(floor);
+    if let Some(q) = longest_step(points, quads, topo, v, target, |m| m >= required) {
+        return q;
+    }
+    super::untangle::untangle_vertex(points, quads, topo, v)
+        .and_then(|t| longest_step(points, quads, topo, v, t, |m| m > current))
+        .unwrap_or(p)
+}
+
+/// The first of p + d, p + d/2, p + d/4, ... (d = target - p) whose star minimum satisfies
+/// `accept`.
+fn longest_step(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    target: DVec2,
+    accept: impl Fn(f64) -> bool,
+) -> Option<DVec2> {
+    let p = points[v];
+    let mut step = target - p;
+    for _ in 0..=MAX_HALVINGS {
+        let candidate = p + step;
+        if accept(star_min(points, quads, topo, v, candidate)) {
+            return Some(candidate);
+        }
+        step *= 0.5;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::QuadMesh;
+
+    #[test]
+    fn guarded_move_never_folds_a_valid_star() {
+        // 2x2 grid, centre vertex 4; a target far outside its star would fold it.
+        let mut p = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                p.push(DVec2::new(i as f64, j as f64));
+            }
+        }
+        let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
+        let t = Topology::new(&m);
+        let target = DVec2::new(5.0, 1.0);
+        let got = guarded_position(m.points(), m.quads(), &t, 4, target, 0.05);
+        assert!(star_min(m.points(), m.quads(), &t, 4, got) >= 0.05);
+        assert!(got.x > 1.0 && got.x < 2.0, "took a partial step: {got}");
+        // An acceptable target is taken as is.
+        let ok = DVec2::new(1.1, 1.0);
+        assert_eq!(guarded_position(m.points(), m.quads(), &t, 4, ok, 0.05), ok);
+    }
+}

@@ -199,7 +199,8 @@ impl MeshData {
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
     let path = path.as_ref();
     let format = Format::from_path(path)?;
-    let bytes = fs::read(path).map_err(|source| IoError::File { path: path.into(), action: "read", source })?;
+    let bytes =
+        fs::read(path).map_err(|source| IoError::File { path: path.into(), action: "read", source })?;
     read_mesh_bytes(&bytes, format).map_err(|e| IoError::InFile { path: path.into(), source: Box::new(e) })
 }
 

@@ -92,7 +92,8 @@ fn expect(lex: &mut Lexer<'_>, word: &str) -> Result<(), IoError> {
 }
 
 fn tag(t: Tok<'_>, what: &str) -> Result<u64, IoError> {
-    t.s.parse::<u64>().map_err(|_| err(t, format!("expected {what} (a positive integer), found '{}'", clip(t.s))))
+    t.s.parse::<u64>()
+        .map_err(|_| err(t, format!("expected {what} (a positive integer), found '{}'", clip(t.s))))
 }
 
 fn add_node(
@@ -117,10 +118,18 @@ fn xyz(line: &[Tok<'_>]) -> Result<[f64; 3], IoError> {
     if line.len() < 3 {
         return Err(err(line[0], "a node needs x, y and z".into()));
     }
-    Ok([parse_f64(line[0], "a coordinate")?, parse_f64(line[1], "a coordinate")?, parse_f64(line[2], "a coordinate")?])
+    Ok([
+        parse_f64(line[0], "a coordinate")?,
+        parse_f64(line[1], "a coordinate")?,
+        parse_f64(line[2], "a coordinate")?,
+    ])
 }
 
-fn read_nodes_v2(lex: &mut Lexer<'_>, points: &mut Vec<[f64; 3]>, tags: &mut HashMap<u64, u32>) -> Result<(), IoError> {
+fn read_nodes_v2(
+    lex: &mut Lexer<'_>,
+    points: &mut Vec<[f64; 3]>,
+    tags: &mut HashMap<u64, u32>,
+) -> Result<(), IoError> {
     let n = lex.usize("the node count")?;
     points.reserve(n.min(lex.remaining() / 4));
     for _ in 0..n {
@@ -135,7 +144,11 @@ fn read_nodes_v2(lex: &mut Lexer<'_>, points: &mut Vec<[f64; 3]>, tags: &mut Has
     Ok(())
 }
 
-fn read_nodes_v4(lex: &mut Lexer<'_>, points: &mut Vec<[f64; 3]>, tags: &mut HashMap<u64, u32>) -> Result<(), IoError> {
+fn read_nodes_v4(
+    lex: &mut Lexer<'_>,
+    points: &mut Vec<[f64; 3]>,
+    tags: &mut HashMap<u64, u32>,
+) -> Result<(), IoError> {
     let blocks = lex.usize("the entity block count")?;
     let total = lex.usize("the node count")?;
     lex.usize("the minimum node tag")?;
@@ -208,7 +221,10 @@ fn read_elements_v2(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>
         let line = lex.rest_of_line("an element")?;
         let l = line[0].line;
         if line.len() < 3 {
-            return Err(IoError::Parse { line: l, message: "an element needs a tag, a type and a tag count".into() });
+            return Err(IoError::Parse {
+                line: l,
+                message: "an element needs a tag, a type and a tag count".into(),
+            });
         }
         let ty = parse_usize(line[1], "the element type")?;
         let ntags = parse_usize(line[2], "the tag count")?;
@@ -256,7 +272,15 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
             }
             writeln!(w, "$EndNodes\n$Elements\n{m}")?;
             for (i, q) in data.quads.iter().enumerate() {
-                writeln!(w, "{} {MSH_QUAD} 2 0 1 {} {} {} {}", i + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1)?;
+                writeln!(
+                    w,
+                    "{} {MSH_QUAD} 2 0 1 {} {} {} {}",
+                    i + 1,
+                    q[0] + 1,
+                    q[1] + 1,
+                    q[2] + 1,
+                    q[3] + 1
+                )?;
             }
             writeln!(w, "$EndElements")?;
         }

@@ -20,7 +20,10 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
         match key.s {
             "v" => {
                 if args.len() < 2 {
-                    return Err(IoError::Parse { line: line_no, message: "a vertex needs x, y and z".into() });
+                    return Err(IoError::Parse {
+                        line: line_no,
+                        message: "a vertex needs x, y and z".into(),
+                    });
                 }
                 let x = parse_f64(args[0], "a coordinate")?;
                 let y = parse_f64(args[1], "a coordinate")?;

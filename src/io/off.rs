@@ -15,7 +15,10 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
         if header.s.ends_with("OFF") {
             return Err(IoError::Unsupported(format!("OFF variant '{}' (only 3D OFF is read)", header.s)));
         }
-        return Err(IoError::Parse { line: header.line, message: "the file does not start with 'OFF'".into() });
+        return Err(IoError::Parse {
+            line: header.line,
+            message: "the file does not start with 'OFF'".into(),
+        });
     }
     if lex.peek().is_some_and(|t| t.s.eq_ignore_ascii_case("BINARY")) {
         return Err(IoError::Unsupported("binary OFF files".into()));
@@ -51,7 +54,10 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             return Err(IoError::NonQuad { line: line_no, cell: face, kind });
         }
         if line.len() < 5 {
-            return Err(IoError::Parse { line: line_no, message: "a quad face needs 4 vertex indices".into() });
+            return Err(IoError::Parse {
+                line: line_no,
+                message: "a quad face needs 4 vertex indices".into(),
+            });
         }
         let mut q = [0u32; 4];
         for c in 0..4 {

@@ -11,7 +11,7 @@
 //! A mesh whose used vertices lie farther than [`PLANARITY_TOLERANCE`] times the bounding-box
 //! diagonal from the fitted plane is rejected with [`Error::NotPlanar`]. The tolerance (1e-5)
 //! accepts coordinates stored with 6 significant digits (as `float` VTK files often are:
-//! Mesquite's tilted `quad_2_not_xy` deviates by 1.6e-7 of its diagonal) and rejects every
+//! Mesquite's tilted `quad_2_not_xy` deviates by 1.0e-7 of its diagonal) and rejects every
 //! curved surface of practical interest (a sphere cap deviates by about its sagitta).
 //!
 //! Writing back ([`PlanarMesh::write_back`]) replaces the 3D coordinates of the vertices whose

@@ -104,7 +104,7 @@ fn vtk_fixed_vertices_and_unused_vertices_come_back_bit_identical() {
     let mut mesh = jittered_grid(6);
     // Fix the boundary and two interior vertices; add an unused vertex.
     let mut fixed: Vec<bool> =
-        (0..mesh.points.len()).map(|i| i % 7 == 0 || i % 7 == 6 || i < 7 || i >= 42).collect();
+        (0..mesh.points.len()).map(|i| i % 7 == 0 || i % 7 == 6 || !(7..42).contains(&i)).collect();
     fixed[8] = true;
     fixed[24] = true;
     mesh.points.push([0.1, 0.7, 3.0]);

@@ -155,6 +155,7 @@ fn in_plane_axes(axis: usize) -> (usize, usize) {
 }
 
 /// The unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix (cyclic Jacobi).
+#[allow(clippy::needless_range_loop)] // rows p and q are updated together
 fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _ in 0..64 {

@@ -215,8 +215,8 @@ fn trace_loops(
 ) -> (Vec<u32>, Vec<u32>) {
     // Directed boundary edges out of every vertex (a bowtie vertex has several).
     let n = kind.len();
-    let mut out_edges: Vec<Vec<u32>> = vec![Vec::new(); 0];
-    let needs_general = kind.iter().any(|&k| k == VertexKind::NonManifold);
+    let mut out_edges: Vec<Vec<u32>> = Vec::new();
+    let needs_general = kind.contains(&VertexKind::NonManifold);
     if needs_general {
         out_edges = vec![Vec::new(); n];
         for v in 0..n {

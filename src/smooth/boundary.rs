@@ -186,20 +186,21 @@ pub fn update(
     }
     let margin = MARGIN * (s_next - s_prev);
     let (lo, hi) = (s_prev + margin, s_next - margin);
-    if !(lo < hi) {
+    if lo >= hi || lo.is_nan() {
         return (p, s, energy);
     }
 
     let target = match mode {
         BoundaryMode::Fixed => return (p, s, energy),
         BoundaryMode::Slide => {
-            // f(s_prev) < 0 < f(s_next): v at n0 must turn clockwise onto the bisector, at n2
-            // counter-clockwise. Bisection finds the sign change.
+            // f(s_prev) > 0 > f(s_next): at s_prev v sits on n2 (the previous boundary vertex)
+            // and must turn counter-clockwise onto the bisector, at s_next it sits on n0 and
+            // must turn clockwise. Bisection finds the sign change.
             let f = |t: f64| bisecting_rotation(geometry.eval(l, t), n1, n0, n2).unwrap_or(0.0);
             let (mut x0, mut x1) = (s_prev, s_next);
             for _ in 0..60 {
                 let mid = 0.5 * (x0 + x1);
-                if f(mid) < 0.0 {
+                if f(mid) > 0.0 {
                     x0 = mid;
                 } else {
                     x1 = mid;

@@ -3,8 +3,8 @@
 //! Readings of the paper's formulas (measured, see DESIGN.md section 5):
 //! - Embedded polygon: the edge-neighbours of v in counter-clockwise order (valence n gives n
 //!   corners); adding the quads' diagonal vertices is markedly less robust.
-//! - Eqs. 4-5: at corner P with a = v - P, b = previous neighbour - P and c = next neighbour
-//!   - P, the interior angle is the counter-clockwise sweep from c to b. theta is the *signed*
+//! - Eqs. 4-5: at corner P with a = v - P, b = (previous neighbour) - P and c = (next
+//!   neighbour) - P, the interior angle is the counter-clockwise sweep from c to b. theta is the *signed*
 //!   rotation turning a onto that angle's bisector, and the candidate is v rotated about P by
 //!   theta (so |a_i - P| = |v - P|). This equals Eq. 4 while the spoke is inside the angle and
 //!   keeps its sign on tangled input, where Eq. 4's difference of arccosines loses it.
@@ -48,7 +48,7 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
     let p = points[v];
     // Valence is small (typically 3-6): fixed-size scratch, no allocation.
     const MAX: usize = 32;
-    if n < 2 || n > MAX {
+    if !(2..=MAX).contains(&n) {
         return (p, 0.0);
     }
     let mut cand = [DVec2::ZERO; MAX];

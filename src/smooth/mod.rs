@@ -365,3 +365,40 @@ impl Sweep<'_> {
         Update { position: p + self.options.lambda * (target - p), param: 0.0, energy }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn grid(nx: u32, ny: u32) -> QuadMesh {
+        let mut p = Vec::new();
+        for j in 0..=ny {
+            for i in 0..=nx {
+                p.push(DVec2::new(i as f64, j as f64));
+            }
+        }
+        let mut q = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let a = j * (nx + 1) + i;
+                q.push([a, a + 1, a + nx + 2, a + nx + 1]);
+            }
+        }
+        QuadMesh::new(p, q, None).unwrap()
+    }
+
+    #[test]
+    fn perfect_grid_is_a_fixed_point_of_every_method_and_mode() {
+        for method in Method::ALL {
+            for boundary in BoundaryMode::ALL {
+                let mut m = grid(4, 3);
+                let before = m.points().to_vec();
+                let r = optimize(&mut m, &Options { method, boundary, ..Options::default() }).unwrap();
+                for (a, b) in before.iter().zip(m.points()) {
+                    assert!((*a - *b).length() < 1e-12, "{method:?} {boundary:?} moved {a} to {b}");
+                }
+                assert_eq!(r.output.min, 1.0);
+            }
+        }
+    }
+}

@@ -30,6 +30,7 @@
 
 pub mod error;
 pub mod features;
+pub mod io;
 pub mod mesh;
 pub mod quality;
 pub mod smooth;

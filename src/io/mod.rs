@@ -1,0 +1,284 @@
+//! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII) and Gmsh MSH (ASCII 2.2 and 4.1), read
+//! and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
+//! 2D [`QuadMesh`](crate::QuadMesh) the optimizer works on ([`planar`]).
+//!
+//! # Why hand-written parsers
+//! The formats are small and line-oriented, and each available crate misses something this
+//! tool needs: `tobj` re-indexes vertices per object (dropping unused vertices and the file's
+//! vertex order) and reads `f32` unless a feature is set; `vtkio` does not read `bit` arrays
+//! as flags and its reader is not documented as panic-free; `mshio` reads MSH 4.1 only (not
+//! 2.2) and does not write. The readers here read coordinates with Rust's correctly rounded
+//! `f64` parser, the writers use shortest round-trip formatting (`{:?}`), so values come back
+//! bit-identical; and they never panic on arbitrary bytes (every count read from a file is
+//! checked against the input actually present before anything is allocated or indexed), which
+//! the fuzz targets rely on.
+//!
+//! # What is read
+//! - OBJ: `v` (x y z; a missing z is 0), `f` with 4 vertices (`a`, `a/b`, `a//c`, `a/b/c`,
+//!   negative relative indices). Faces with another vertex count and `l`/`p` elements are
+//!   errors; other statements (`vt`, `vn`, `g`, `o`, `usemtl`, ...) are ignored.
+//! - OFF (also `COFF`, `NOFF`, `STOFF` ...: extra per-vertex and per-face values are ignored).
+//! - VTK legacy ASCII, `UNSTRUCTURED_GRID` with quad cells (type 9) or `POLYDATA` with 4-vertex
+//!   `POLYGONS`, in the classic `CELLS n size` layout or VTK 5.1's `OFFSETS`/`CONNECTIVITY`.
+//!   A point-data array named `fixed` (`SCALARS` or `FIELD`, any numeric or `bit` type) gives
+//!   the fixed flags (nonzero = fixed); every other attribute is skipped.
+//! - MSH ASCII 2.x and 4.1: nodes in file order (tags may be sparse), 4-node quads (type 3).
+//!   Point and line elements (Gmsh writes them for corners and boundary curves) are skipped;
+//!   any other element (triangles, higher-order quads, volumes) is an error.
+//!
+//! Vertices used by no quad are kept as they are, in their place.
+
+pub mod planar;
+
+mod lex;
+mod msh;
+mod obj;
+mod off;
+mod vtk;
+
+pub use planar::{PlanarFrame, PlanarMesh};
+
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Everything that can go wrong reading or writing a mesh file.
+#[derive(Debug, Error)]
+pub enum IoError {
+    /// The file could not be opened, read or written.
+    #[error("cannot {action} {}: {source}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// "read" or "write".
+        action: &'static str,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// Writing to a stream failed.
+    #[error("write failed: {0}")]
+    Stream(#[source] std::io::Error),
+    /// The file extension names no supported format.
+    #[error("{}: unknown mesh format (expected the extension .obj, .off, .vtk or .msh)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The text is malformed.
+    #[error("line {line}: {message}")]
+    Parse {
+        /// 1-based line of the problem.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A cell is not a quad.
+    #[error("line {line}: cell {cell} is a {kind}; only quads are supported")]
+    NonQuad {
+        /// 1-based line of the cell (or of its type).
+        line: usize,
+        /// 0-based index of the cell among the file's cells (or faces, or elements).
+        cell: usize,
+        /// What the cell is, e.g. "triangle (VTK type 5)".
+        kind: String,
+    },
+    /// A valid file using a feature this reader does not support (binary data, ...).
+    #[error("unsupported: {0}")]
+    Unsupported(String),
+    /// The mesh itself is invalid (index out of range, non-manifold, not planar, ...).
+    #[error(transparent)]
+    Mesh(#[from] crate::Error),
+    /// An error inside a named file.
+    #[error("{}: {source}", path.display())]
+    InFile {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong in it.
+        source: Box<IoError>,
+    },
+}
+
+/// A supported file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (`.obj`).
+    Obj,
+    /// Object File Format (`.off`).
+    Off,
+    /// Legacy VTK, ASCII (`.vtk`).
+    Vtk,
+    /// Gmsh MSH, ASCII (`.msh`).
+    Msh,
+}
+
+impl Format {
+    /// Every format.
+    pub const ALL: [Format; 4] = [Format::Obj, Format::Off, Format::Vtk, Format::Msh];
+
+    /// The format named by a path's extension (ASCII case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Format, IoError> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("obj") => Ok(Format::Obj),
+            Some("off") => Ok(Format::Off),
+            Some("vtk") => Ok(Format::Vtk),
+            Some("msh") => Ok(Format::Msh),
+            _ => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+        }
+    }
+
+    /// The usual file extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Off => "off",
+            Format::Vtk => "vtk",
+            Format::Msh => "msh",
+        }
+    }
+}
+
+/// Gmsh MSH file format version.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MshVersion {
+    /// MSH 2.2 (also read: 2.0, 2.1).
+    V2_2,
+    /// MSH 4.1, the default for writing.
+    #[default]
+    V4_1,
+}
+
+/// A quad mesh as stored in a file: 3D points, quads (0-based indices, as given), optional
+/// per-vertex fixed flags, and format details kept for writing the mesh back the same way.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// Vertex coordinates.
+    pub points: Vec<[f64; 3]>,
+    /// Quads: four 0-based vertex indices each, in the file's order.
+    pub quads: Vec<[u32; 4]>,
+    /// Per-vertex fixed flags (VTK point-data array `fixed`), if the file had them.
+    pub fixed: Option<Vec<bool>>,
+    /// The MSH version read (written back when writing MSH; 4.1 when `None`).
+    pub msh_version: Option<MshVersion>,
+    /// Whether a VTK file was `POLYDATA` (written back as such when writing VTK).
+    pub vtk_polydata: bool,
+}
+
+impl MeshData {
+    /// A mesh from points and quads, with no fixed flags.
+    pub fn new(points: Vec<[f64; 3]>, quads: Vec<[u32; 4]>) -> MeshData {
+        MeshData { points, quads, ..MeshData::default() }
+    }
+
+    /// Checks that every quad index refers to a point and that the fixed flags (if any) have
+    /// one entry per point; writers call this so they never emit a broken file.
+    pub fn check(&self) -> Result<(), IoError> {
+        let n = self.points.len();
+        for (qi, q) in self.quads.iter().enumerate() {
+            for (c, &v) in q.iter().enumerate() {
+                if v as usize >= n {
+                    return Err(crate::Error::IndexOutOfRange {
+                        quad: qi,
+                        corner: c,
+                        index: v as u64,
+                        vertex_count: n,
+                    }
+                    .into());
+                }
+            }
+        }
+        if let Some(got) = self.fixed.as_ref().map(Vec::len).filter(|&len| len != n) {
+            return Err(crate::Error::FixedLengthMismatch { expected: n, got }.into());
+        }
+        Ok(())
+    }
+}
+
+/// Reads a mesh file; the format is chosen by the extension. Errors name the path.
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
+    let path = path.as_ref();
+    let format = Format::from_path(path)?;
+    let bytes =
+        fs::read(path).map_err(|source| IoError::File { path: path.into(), action: "read", source })?;
+    read_mesh_bytes(&bytes, format).map_err(|e| IoError::InFile { path: path.into(), source: Box::new(e) })
+}
+
+/// Reads a mesh from bytes (invalid UTF-8 is replaced; it can only occur in comments and
+/// titles of a valid file). Never panics, whatever the bytes.
+pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError> {
+    read_mesh_str(&String::from_utf8_lossy(bytes), format)
+}
+
+/// Reads a mesh from text. Never panics, whatever the text.
+pub fn read_mesh_str(text: &str, format: Format) -> Result<MeshData, IoError> {
+    let data = match format {
+        Format::Obj => obj::read(text)?,
+        Format::Off => off::read(text)?,
+        Format::Vtk => vtk::read(text)?,
+        Format::Msh => msh::read(text)?,
+    };
+    data.check()?;
+    Ok(data)
+}
+
+/// Writes a mesh to a stream in `format`.
+pub fn write_mesh_to(writer: &mut dyn Write, format: Format, data: &MeshData) -> Result<(), IoError> {
+    data.check()?;
+    let mut w = BufWriter::new(writer);
+    let result = match format {
+        Format::Obj => obj::write(&mut w, data),
+        Format::Off => off::write(&mut w, data),
+        Format::Vtk => vtk::write(&mut w, data),
+        Format::Msh => msh::write(&mut w, data),
+    };
+    result.and_then(|()| w.flush()).map_err(IoError::Stream)
+}
+
+/// Writes a mesh to text in `format`.
+pub fn write_mesh_string(format: Format, data: &MeshData) -> Result<String, IoError> {
+    let mut buf = Vec::new();
+    write_mesh_to(&mut buf, format, data)?;
+    // Every writer emits ASCII only.
+    String::from_utf8(buf).map_err(|e| IoError::Stream(std::io::Error::other(e)))
+}
+
+/// Writes a mesh file, the format chosen by the extension. Atomic: the text goes to a
+/// temporary file in the same directory, which is renamed over `path` only once complete, so
+/// `path` is never left half-written.
+pub fn write_mesh(path: impl AsRef<Path>, data: &MeshData) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let format = Format::from_path(path)?;
+    data.check()?;
+    let file_error = |source| IoError::File { path: path.into(), action: "write", source };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut file = fs::File::create(&tmp)?;
+        match write_mesh_to(&mut file, format, data) {
+            Err(IoError::Stream(e)) => return Err(e),
+            Err(e) => return Err(std::io::Error::other(e.to_string())),
+            Ok(()) => {}
+        }
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map_err(file_error)
+}
+
+/// Formats a coordinate with shortest round-trip precision (`1.0`, `0.1`, `1e-7`, `-0.0`).
+pub(crate) struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.0)
+    }
+}

@@ -1,0 +1,305 @@
+//! Gmsh MSH, ASCII, versions 2.x and 4.1 (see the module docs of [`crate::io`]).
+
+use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize};
+use super::{IoError, MeshData, MshVersion, Num};
+use std::collections::HashMap;
+use std::io::Write;
+
+/// Gmsh's element type number of a 4-node quad.
+const MSH_QUAD: usize = 3;
+
+/// Reads an MSH text.
+pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
+    let mut lex = Lexer::new(text.lines(), 1, None);
+    let t = lex.next("$MeshFormat")?;
+    if t.s != "$MeshFormat" {
+        return Err(err(t, "not a Gmsh MSH file (no $MeshFormat)".into()));
+    }
+    let v = lex.next("the format version")?;
+    let version = match v.s {
+        "2" | "2.0" | "2.1" | "2.2" => MshVersion::V2_2,
+        "4.1" => MshVersion::V4_1,
+        _ => return Err(IoError::Unsupported(format!("MSH version {} (2.2 and 4.1 are read)", clip(v.s)))),
+    };
+    let file_type = lex.next("the file type")?;
+    if file_type.s != "0" {
+        return Err(IoError::Unsupported("binary MSH files (save the mesh as ASCII)".into()));
+    }
+    lex.next("the data size")?;
+    expect(&mut lex, "$EndMeshFormat")?;
+
+    let mut points: Vec<[f64; 3]> = Vec::new();
+    let mut tags: HashMap<u64, u32> = HashMap::new();
+    // (line, element index, node tags) of every quad.
+    let mut raw: Vec<(usize, usize, [u64; 4])> = Vec::new();
+    let (mut have_nodes, mut have_elements) = (false, false);
+    while let Some(t) = lex.peek() {
+        lex.next("")?;
+        match t.s {
+            "$Nodes" if !have_nodes => {
+                have_nodes = true;
+                match version {
+                    MshVersion::V2_2 => read_nodes_v2(&mut lex, &mut points, &mut tags)?,
+                    MshVersion::V4_1 => read_nodes_v4(&mut lex, &mut points, &mut tags)?,
+                }
+                expect(&mut lex, "$EndNodes")?;
+            }
+            "$Elements" if !have_elements => {
+                have_elements = true;
+                match version {
+                    MshVersion::V2_2 => read_elements_v2(&mut lex, &mut raw)?,
+                    MshVersion::V4_1 => read_elements_v4(&mut lex, &mut raw)?,
+                }
+                expect(&mut lex, "$EndElements")?;
+            }
+            s if s.starts_with('$') && !s.starts_with("$End") => {
+                let end = format!("$End{}", &s[1..]);
+                lex.skip_past(&end)?;
+            }
+            _ => return Err(err(t, format!("unexpected '{}' (expected a $Section)", clip(t.s)))),
+        }
+    }
+    if !have_nodes {
+        return Err(lex.error("the file has no $Nodes section"));
+    }
+    if !have_elements {
+        return Err(lex.error("the file has no $Elements section"));
+    }
+    let mut quads = Vec::with_capacity(raw.len());
+    for (line, element, q) in raw {
+        let mut out = [0u32; 4];
+        for c in 0..4 {
+            out[c] = *tags.get(&q[c]).ok_or_else(|| IoError::Parse {
+                line,
+                message: format!("element {element} refers to node {}, which does not exist", q[c]),
+            })?;
+        }
+        quads.push(out);
+    }
+    Ok(MeshData { points, quads, fixed: None, msh_version: Some(version), vtk_polydata: false })
+}
+
+fn err(t: Tok<'_>, message: String) -> IoError {
+    IoError::Parse { line: t.line, message }
+}
+
+fn expect(lex: &mut Lexer<'_>, word: &str) -> Result<(), IoError> {
+    let t = lex.next(word)?;
+    if t.s != word {
+        return Err(err(t, format!("expected {word}, found '{}'", clip(t.s))));
+    }
+    Ok(())
+}
+
+fn tag(t: Tok<'_>, what: &str) -> Result<u64, IoError> {
+    t.s.parse::<u64>()
+        .map_err(|_| err(t, format!("expected {what} (a positive integer), found '{}'", clip(t.s))))
+}
+
+fn add_node(
+    t: Tok<'_>,
+    node: u64,
+    p: [f64; 3],
+    points: &mut Vec<[f64; 3]>,
+    tags: &mut HashMap<u64, u32>,
+) -> Result<(), IoError> {
+    if points.len() >= u32::MAX as usize {
+        return Err(err(t, "too many nodes".into()));
+    }
+    if tags.insert(node, points.len() as u32).is_some() {
+        return Err(err(t, format!("node {node} is defined twice")));
+    }
+    points.push(p);
+    Ok(())
+}
+
+/// A coordinate triple from a line's tokens.
+fn xyz(line: &[Tok<'_>]) -> Result<[f64; 3], IoError> {
+    if line.len() < 3 {
+        return Err(err(line[0], "a node needs x, y and z".into()));
+    }
+    Ok([
+        parse_f64(line[0], "a coordinate")?,
+        parse_f64(line[1], "a coordinate")?,
+        parse_f64(line[2], "a coordinate")?,
+    ])
+}
+
+fn read_nodes_v2(
+    lex: &mut Lexer<'_>,
+    points: &mut Vec<[f64; 3]>,
+    tags: &mut HashMap<u64, u32>,
+) -> Result<(), IoError> {
+    let n = lex.usize("the node count")?;
+    points.reserve(n.min(lex.remaining() / 4));
+    for _ in 0..n {
+        let line = lex.rest_of_line("a node")?;
+        if line.len() < 4 {
+            return Err(err(line[0], "a node needs a tag, x, y and z".into()));
+        }
+        let node = tag(line[0], "a node tag")?;
+        let p = xyz(&line[1..])?;
+        add_node(line[0], node, p, points, tags)?;
+    }
+    Ok(())
+}
+
+fn read_nodes_v4(
+    lex: &mut Lexer<'_>,
+    points: &mut Vec<[f64; 3]>,
+    tags: &mut HashMap<u64, u32>,
+) -> Result<(), IoError> {
+    let blocks = lex.usize("the entity block count")?;
+    let total = lex.usize("the node count")?;
+    lex.usize("the minimum node tag")?;
+    lex.usize("the maximum node tag")?;
+    points.reserve(total.min(lex.remaining() / 3));
+    for _ in 0..blocks {
+        lex.usize("the entity dimension")?;
+        lex.next("the entity tag")?;
+        lex.usize("the parametric flag")?;
+        let n = lex.usize("the block's node count")?;
+        let mut block_tags = Vec::with_capacity(n.min(lex.remaining()));
+        for _ in 0..n {
+            let t = lex.next("a node tag")?;
+            block_tags.push((tag(t, "a node tag")?, t));
+        }
+        for &(node, t) in &block_tags {
+            let line = lex.rest_of_line("node coordinates")?;
+            add_node(t, node, xyz(line)?, points, tags)?;
+        }
+    }
+    if points.len() != total {
+        return Err(lex.error(format!("{} nodes were read, but {total} were announced", points.len())));
+    }
+    Ok(())
+}
+
+/// Files an element: quads are kept, points and lines skipped, anything else is an error.
+fn element(
+    line: usize,
+    index: usize,
+    ty: usize,
+    nodes: &[Tok<'_>],
+    raw: &mut Vec<(usize, usize, [u64; 4])>,
+) -> Result<(), IoError> {
+    match ty {
+        MSH_QUAD => {
+            if nodes.len() != 4 {
+                return Err(IoError::Parse {
+                    line,
+                    message: format!("quad element {index} has {} nodes", nodes.len()),
+                });
+            }
+            let mut q = [0u64; 4];
+            for c in 0..4 {
+                q[c] = tag(nodes[c], "a node tag")?;
+            }
+            raw.push((line, index, q));
+            Ok(())
+        }
+        // Point, and lines of order 1 to 5: corners and boundary curves.
+        15 | 1 | 8 | 26 | 27 | 28 => Ok(()),
+        _ => {
+            let kind = match ty {
+                2 | 9 | 20..=25 => "triangle",
+                10 | 16 => "higher-order quad",
+                4 | 11 | 29..=31 => "tetrahedron",
+                5 | 12 | 17 | 92 | 93 => "hexahedron",
+                6 | 13 | 18 => "prism",
+                7 | 14 | 19 => "pyramid",
+                _ => "element",
+            };
+            Err(IoError::NonQuad { line, cell: index, kind: format!("{kind} (Gmsh element type {ty})") })
+        }
+    }
+}
+
+fn read_elements_v2(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>) -> Result<(), IoError> {
+    let n = lex.usize("the element count")?;
+    for index in 0..n {
+        let line = lex.rest_of_line("an element")?;
+        let l = line[0].line;
+        if line.len() < 3 {
+            return Err(IoError::Parse {
+                line: l,
+                message: "an element needs a tag, a type and a tag count".into(),
+            });
+        }
+        let ty = parse_usize(line[1], "the element type")?;
+        let ntags = parse_usize(line[2], "the tag count")?;
+        let nodes = line.get(3usize.saturating_add(ntags)..).ok_or_else(|| IoError::Parse {
+            line: l,
+            message: format!("the element has fewer than {ntags} tags"),
+        })?;
+        element(l, index, ty, nodes, raw)?;
+    }
+    Ok(())
+}
+
+fn read_elements_v4(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>) -> Result<(), IoError> {
+    let blocks = lex.usize("the entity block count")?;
+    let total = lex.usize("the element count")?;
+    lex.usize("the minimum element tag")?;
+    lex.usize("the maximum element tag")?;
+    let mut index = 0;
+    for _ in 0..blocks {
+        lex.usize("the entity dimension")?;
+        lex.next("the entity tag")?;
+        let ty = lex.usize("the element type")?;
+        let n = lex.usize("the block's element count")?;
+        for _ in 0..n {
+            let line = lex.rest_of_line("an element")?;
+            element(line[0].line, index, ty, &line[1..], raw)?;
+            index += 1;
+        }
+    }
+    if index != total {
+        return Err(lex.error(format!("{index} elements were read, but {total} were announced")));
+    }
+    Ok(())
+}
+
+/// Writes an MSH text in the version the mesh was read in (4.1 by default).
+pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
+    let (n, m) = (data.points.len(), data.quads.len());
+    match data.msh_version.unwrap_or_default() {
+        MshVersion::V2_2 => {
+            writeln!(w, "$MeshFormat\n2.2 0 8\n$EndMeshFormat")?;
+            writeln!(w, "$Nodes\n{n}")?;
+            for (i, p) in data.points.iter().enumerate() {
+                writeln!(w, "{} {} {} {}", i + 1, Num(p[0]), Num(p[1]), Num(p[2]))?;
+            }
+            writeln!(w, "$EndNodes\n$Elements\n{m}")?;
+            for (i, q) in data.quads.iter().enumerate() {
+                writeln!(
+                    w,
+                    "{} {MSH_QUAD} 2 0 1 {} {} {} {}",
+                    i + 1,
+                    q[0] + 1,
+                    q[1] + 1,
+                    q[2] + 1,
+                    q[3] + 1
+                )?;
+            }
+            writeln!(w, "$EndElements")?;
+        }
+        MshVersion::V4_1 => {
+            writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+            // One surface entity holding every node and every quad.
+            writeln!(w, "$Nodes\n1 {n} {} {n}\n2 1 0 {n}", n.min(1))?;
+            for i in 0..n {
+                writeln!(w, "{}", i + 1)?;
+            }
+            for p in &data.points {
+                writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
+            }
+            writeln!(w, "$EndNodes\n$Elements\n1 {m} {} {m}\n2 1 {MSH_QUAD} {m}", m.min(1))?;
+            for (i, q) in data.quads.iter().enumerate() {
+                writeln!(w, "{} {} {} {} {}", i + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1)?;
+            }
+            writeln!(w, "$EndElements")?;
+        }
+    }
+    Ok(())
+}

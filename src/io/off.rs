@@ -1,0 +1,89 @@
+//! OFF (Object File Format) and its variants with extra per-vertex values (`COFF`, `NOFF`,
+//! `STOFF`, ...). Only 3D, ASCII files; faces must have 4 vertices.
+
+use super::lex::{Lexer, parse_f64, parse_usize};
+use super::{IoError, MeshData, Num};
+use std::io::Write;
+
+/// Reads an OFF text.
+pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
+    let mut lex = Lexer::new(text.lines(), 1, Some('#'));
+    let header = lex.next("the OFF header")?;
+    let kind = header.s.strip_suffix("OFF").unwrap_or("");
+    let known = ["", "C", "N", "CN", "ST", "STC", "STN", "STCN"];
+    if !header.s.ends_with("OFF") || !known.contains(&kind) {
+        if header.s.ends_with("OFF") {
+            return Err(IoError::Unsupported(format!("OFF variant '{}' (only 3D OFF is read)", header.s)));
+        }
+        return Err(IoError::Parse {
+            line: header.line,
+            message: "the file does not start with 'OFF'".into(),
+        });
+    }
+    if lex.peek().is_some_and(|t| t.s.eq_ignore_ascii_case("BINARY")) {
+        return Err(IoError::Unsupported("binary OFF files".into()));
+    }
+    let nv = lex.usize("the vertex count")?;
+    let nf = lex.usize("the face count")?;
+    let _edges = lex.usize("the edge count")?;
+    if nv > u32::MAX as usize {
+        return Err(lex.error(format!("{nv} vertices are too many")));
+    }
+    let mut points = Vec::with_capacity(nv.min(lex.remaining() / 3));
+    for _ in 0..nv {
+        let line = lex.rest_of_line("a vertex")?;
+        if line.len() < 3 {
+            return Err(IoError::Parse { line: line[0].line, message: "a vertex needs x, y and z".into() });
+        }
+        points.push([
+            parse_f64(line[0], "a coordinate")?,
+            parse_f64(line[1], "a coordinate")?,
+            parse_f64(line[2], "a coordinate")?,
+        ]);
+    }
+    let mut quads = Vec::with_capacity(nf.min(lex.remaining() / 5));
+    for face in 0..nf {
+        let line = lex.rest_of_line("a face")?;
+        let line_no = line[0].line;
+        let k = parse_usize(line[0], "the face's vertex count")?;
+        if k != 4 {
+            let kind = match k {
+                3 => "triangle".to_string(),
+                k => format!("polygon with {k} vertices"),
+            };
+            return Err(IoError::NonQuad { line: line_no, cell: face, kind });
+        }
+        if line.len() < 5 {
+            return Err(IoError::Parse {
+                line: line_no,
+                message: "a quad face needs 4 vertex indices".into(),
+            });
+        }
+        let mut q = [0u32; 4];
+        for c in 0..4 {
+            let v = parse_usize(line[1 + c], "a vertex index")?;
+            if v >= nv {
+                return Err(IoError::Parse {
+                    line: line_no,
+                    message: format!("vertex index {v} is out of range ({nv} vertices)"),
+                });
+            }
+            q[c] = v as u32;
+        }
+        quads.push(q);
+    }
+    Ok(MeshData::new(points, quads))
+}
+
+/// Writes an OFF text.
+pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
+    writeln!(w, "OFF")?;
+    writeln!(w, "{} {} 0", data.points.len(), data.quads.len())?;
+    for p in &data.points {
+        writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
+    }
+    for q in &data.quads {
+        writeln!(w, "4 {} {} {} {}", q[0], q[1], q[2], q[3])?;
+    }
+    Ok(())
+}

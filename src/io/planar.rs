@@ -1,0 +1,242 @@
+//! Planar meshes in 3D space: fitting the plane, rejecting curved meshes, and mapping between
+//! the file's 3D coordinates and the 2D coordinates the optimizer works in.
+//!
+//! - If one coordinate is the same for every vertex used by a quad (the plane z = c, the usual
+//!   case, or x = c, y = c), the 2D coordinates are the other two coordinates, unchanged, and
+//!   the constant one is kept: nothing is rounded.
+//! - Otherwise the plane is fitted by least squares (centroid and the covariance matrix's
+//!   eigenvector of the smallest eigenvalue, by Jacobi rotations) and the 2D coordinates are
+//!   taken in an orthonormal frame of that plane.
+//!
+//! A mesh whose used vertices lie farther than [`PLANARITY_TOLERANCE`] times the bounding-box
+//! diagonal from the fitted plane is rejected with [`Error::NotPlanar`]. The tolerance (1e-5)
+//! accepts coordinates stored with 6 significant digits (as `float` VTK files often are:
+//! Mesquite's tilted `quad_2_not_xy` deviates by 1.0e-7 of its diagonal) and rejects every
+//! curved surface of practical interest (a sphere cap deviates by about its sagitta).
+//!
+//! Writing back ([`PlanarMesh::write_back`]) replaces the 3D coordinates of the vertices whose
+//! 2D position changed (compared bitwise) and nothing else, so vertices that did not move
+//! (fixed, corners, unused) keep their original coordinates bit for bit, in any plane.
+
+use super::{IoError, MeshData};
+use crate::error::Error;
+use crate::mesh::QuadMesh;
+use glam::{DVec2, DVec3};
+
+/// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
+/// vertices used by quads.
+pub const PLANARITY_TOLERANCE: f64 = 1e-5;
+
+/// The plane of a mesh and its 2D coordinate frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlanarFrame {
+    /// Coordinate `axis` (0 = x, 1 = y, 2 = z) equals `value` at every used vertex; the 2D
+    /// coordinates are the two others, in right-handed order (yz, zx or xy).
+    Axis {
+        /// The constant coordinate.
+        axis: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A general plane through `origin` spanned by the orthonormal `u` and `v`;
+    /// `normal = u x v`.
+    Tilted {
+        /// A point of the plane (the centroid of the used vertices).
+        origin: DVec3,
+        /// First in-plane axis.
+        u: DVec3,
+        /// Second in-plane axis.
+        v: DVec3,
+        /// Unit normal.
+        normal: DVec3,
+    },
+}
+
+impl PlanarFrame {
+    /// Fits the plane of the points whose `used` flag is set (all points when `used` is
+    /// `None`); fails with [`Error::NotPlanar`] naming the farthest vertex when they are not
+    /// planar, and [`Error::NonFiniteCoordinate`] on NaN or infinite coordinates.
+    pub fn fit(points: &[[f64; 3]], used: Option<&[bool]>) -> Result<PlanarFrame, Error> {
+        if let Some(v) = points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+            return Err(Error::NonFiniteCoordinate { vertex: v });
+        }
+        let is_used = |i: usize| used.is_none_or(|u| u.get(i).copied().unwrap_or(false));
+        let idx: Vec<usize> = (0..points.len()).filter(|&i| is_used(i)).collect();
+        let Some(&first) = idx.first() else {
+            return Ok(PlanarFrame::Axis { axis: 2, value: 0.0 });
+        };
+        for axis in [2, 0, 1] {
+            let value = points[first][axis];
+            if idx.iter().all(|&i| points[i][axis] == value) {
+                return Ok(PlanarFrame::Axis { axis, value });
+            }
+        }
+        let p = |i: usize| DVec3::from_array(points[i]);
+        let (mut lo, mut hi) = (p(first), p(first));
+        let mut sum = DVec3::ZERO;
+        for &i in &idx {
+            lo = lo.min(p(i));
+            hi = hi.max(p(i));
+            sum += p(i);
+        }
+        let origin = sum / idx.len() as f64;
+        let mut cov = [[0.0; 3]; 3];
+        for &i in &idx {
+            let d = (p(i) - origin).to_array();
+            for r in 0..3 {
+                for c in 0..3 {
+                    cov[r][c] += d[r] * d[c];
+                }
+            }
+        }
+        let normal = smallest_eigenvector(cov);
+        let tolerance = PLANARITY_TOLERANCE * (hi - lo).length();
+        let (mut worst, mut distance) = (first, 0.0);
+        for &i in &idx {
+            let d = (p(i) - origin).dot(normal).abs();
+            if d > distance {
+                (worst, distance) = (i, d);
+            }
+        }
+        if distance > tolerance {
+            return Err(Error::NotPlanar { vertex: worst, distance, tolerance });
+        }
+        // u: the coordinate axis most parallel to the plane, projected into it.
+        let a = normal.abs();
+        let axis = if a.x <= a.y && a.x <= a.z {
+            DVec3::X
+        } else if a.y <= a.z {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let u = (axis - axis.dot(normal) * normal).normalize();
+        let v = normal.cross(u);
+        Ok(PlanarFrame::Tilted { origin, u, v, normal })
+    }
+
+    /// The in-plane coordinates of a point (its projection onto the plane).
+    pub fn to_2d(&self, p: [f64; 3]) -> DVec2 {
+        match *self {
+            PlanarFrame::Axis { axis, .. } => {
+                let (i, j) = in_plane_axes(axis);
+                DVec2::new(p[i], p[j])
+            }
+            PlanarFrame::Tilted { origin, u, v, .. } => {
+                let d = DVec3::from_array(p) - origin;
+                DVec2::new(d.dot(u), d.dot(v))
+            }
+        }
+    }
+
+    /// The point of the plane with in-plane coordinates `q`.
+    pub fn to_3d(&self, q: DVec2) -> [f64; 3] {
+        match *self {
+            PlanarFrame::Axis { axis, value } => {
+                let (i, j) = in_plane_axes(axis);
+                let mut p = [0.0; 3];
+                p[axis] = value;
+                p[i] = q.x;
+                p[j] = q.y;
+                p
+            }
+            PlanarFrame::Tilted { origin, u, v, .. } => (origin + q.x * u + q.y * v).to_array(),
+        }
+    }
+}
+
+/// The two in-plane coordinates for a plane perpendicular to `axis`, right-handed.
+fn in_plane_axes(axis: usize) -> (usize, usize) {
+    match axis {
+        0 => (1, 2),
+        1 => (2, 0),
+        _ => (0, 1),
+    }
+}
+
+/// The unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix (cyclic Jacobi).
+#[allow(clippy::needless_range_loop)] // rows p and q are updated together
+fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..64 {
+        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        let diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if off <= 1e-32 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for row in a.iter_mut() {
+                let (kp, kq) = (row[p], row[q]);
+                row[p] = c * kp - s * kq;
+                row[q] = s * kp + c * kq;
+            }
+            for k in 0..3 {
+                let (pk, qk) = (a[p][k], a[q][k]);
+                a[p][k] = c * pk - s * qk;
+                a[q][k] = s * pk + c * qk;
+            }
+            for row in v.iter_mut() {
+                let (kp, kq) = (row[p], row[q]);
+                row[p] = c * kp - s * kq;
+                row[q] = s * kp + c * kq;
+            }
+        }
+    }
+    let k = (0..3).min_by(|&i, &j| a[i][i].total_cmp(&a[j][j])).unwrap_or(2);
+    DVec3::new(v[0][k], v[1][k], v[2][k]).normalize_or(DVec3::Z)
+}
+
+/// A file's mesh as the 2D [`QuadMesh`] the optimizer works on, with the frame to map it back.
+#[derive(Clone, Debug)]
+pub struct PlanarMesh {
+    /// The 2D mesh (fixed flags from the file; vertices used by no quad included, they never
+    /// move).
+    pub mesh: QuadMesh,
+    /// The plane and its 2D frame.
+    pub frame: PlanarFrame,
+    /// 2D positions before optimization, to find the vertices that moved.
+    initial: Vec<DVec2>,
+}
+
+impl PlanarMesh {
+    /// Fits the plane of `data` (see the module docs) and builds the validated 2D mesh.
+    pub fn new(data: &MeshData) -> Result<PlanarMesh, IoError> {
+        data.check()?;
+        let mut used = vec![false; data.points.len()];
+        for q in &data.quads {
+            for &v in q {
+                used[v as usize] = true;
+            }
+        }
+        let frame = PlanarFrame::fit(&data.points, Some(&used))?;
+        let initial: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
+        let mesh = QuadMesh::new(initial.clone(), data.quads.clone(), data.fixed.clone())?;
+        Ok(PlanarMesh { mesh, frame, initial })
+    }
+
+    /// Indices of the vertices whose 2D position differs (bitwise) from the initial one.
+    pub fn moved(&self) -> Vec<usize> {
+        let same = |a: DVec2, b: DVec2| a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits();
+        (0..self.initial.len()).filter(|&i| !same(self.initial[i], self.mesh.points()[i])).collect()
+    }
+
+    /// Writes the optimized positions back into `data` (the mesh this was built from): moved
+    /// vertices get their point of the plane, every other vertex keeps its original
+    /// coordinates bit for bit; the quads become [`QuadMesh::quads_as_given`] (consistently
+    /// oriented, in the handedness of the input).
+    pub fn write_back(&self, data: &mut MeshData) {
+        for i in self.moved() {
+            if let Some(p) = data.points.get_mut(i) {
+                *p = self.frame.to_3d(self.mesh.points()[i]);
+            }
+        }
+        data.quads = self.mesh.quads_as_given();
+    }
+}

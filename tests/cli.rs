@@ -1,0 +1,291 @@
+//! The `quadopt` binary, run as a user would.
+
+use quadopt::io::{self, MeshData};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn quadopt(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_quadopt")).args(args).output().unwrap()
+}
+
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("quadopt-cli-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// An n x n grid of unit squares in the plane z = -5 with its interior vertices jittered
+/// (deterministically) by up to 0.35, and vertex (1, 1) dragged across its neighbours so that
+/// quads fold.
+fn jittered_grid(n: usize) -> MeshData {
+    let mut points = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let interior = i > 0 && j > 0 && i < n && j < n;
+            let (mut x, mut y) = (i as f64, j as f64);
+            if interior {
+                x += 0.35 * ((i * 12 + j * 7) as f64).sin();
+                y += 0.35 * ((i * 5 + j * 13) as f64).cos();
+            }
+            if (i, j) == (1, 1) {
+                (x, y) = (2.3, 2.2);
+            }
+            points.push([x, y, -5.0]);
+        }
+    }
+    let m = (n + 1) as u32;
+    let mut quads = Vec::new();
+    for j in 0..n as u32 {
+        for i in 0..n as u32 {
+            quads.push([j * m + i, j * m + i + 1, (j + 1) * m + i + 1, (j + 1) * m + i]);
+        }
+    }
+    MeshData::new(points, quads)
+}
+
+fn json_stdout(out: &Output) -> Value {
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout.clone()).unwrap();
+    assert_eq!(text.trim_end().lines().count(), 1, "exactly one JSON line: {text}");
+    serde_json::from_str(&text).unwrap()
+}
+
+fn stats_keys(v: &Value) {
+    for k in ["min", "avg", "max"] {
+        assert!(v[k].is_f64(), "{k} in {v}");
+    }
+    assert!(v["inverted"].is_u64(), "{v}");
+}
+
+#[test]
+fn optimize_json_improves_a_jittered_grid() {
+    let dir = scratch("optimize");
+    let input = dir.join("grid.obj");
+    let mesh = jittered_grid(8);
+    io::write_mesh(&input, &mesh).unwrap();
+    let output = dir.join("out.off");
+    let v =
+        json_stdout(&quadopt(&["optimize", s(&input), "-o", s(&output), "--boundary", "fixed", "--json"]));
+    stats_keys(&v["input"]);
+    stats_keys(&v["output"]);
+    assert!(v["iterations"].as_u64().unwrap() >= 1);
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    assert_eq!((v["method"].as_str(), v["boundary"].as_str()), (Some("ep"), Some("fixed")));
+    assert!(v["input"]["inverted"].as_u64().unwrap() > 0, "the jitter folds some quads: {v}");
+    assert_eq!(v["output"]["inverted"].as_u64(), Some(0));
+    assert!(v["output"]["avg"].as_f64().unwrap() > v["input"]["avg"].as_f64().unwrap() + 0.05, "{v}");
+    assert!(v["output"]["min"].as_f64().unwrap() > 0.5, "{v}");
+    // The output file holds the optimized mesh: same quads, boundary bit-identical, z kept,
+    // and its measured quality is what was reported.
+    let back = io::read_mesh(&output).unwrap();
+    assert_eq!(back.quads, mesh.quads);
+    for (i, (p, q)) in back.points.iter().zip(&mesh.points).enumerate() {
+        let (x, y) = (i % 9, i / 9);
+        if x == 0 || y == 0 || x == 8 || y == 8 {
+            assert_eq!(p.map(f64::to_bits), q.map(f64::to_bits), "boundary vertex {i}");
+        }
+        assert_eq!(p[2], -5.0);
+    }
+    let q = json_stdout(&quadopt(&["quality", s(&output), "--json"]));
+    assert_eq!(q["avg"], v["output"]["avg"]);
+    assert_eq!(q["min"], v["output"]["min"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn vtk_fixed_vertices_and_unused_vertices_come_back_bit_identical() {
+    let dir = scratch("fixed");
+    let mut mesh = jittered_grid(6);
+    // Fix the boundary and two interior vertices; add an unused vertex.
+    let mut fixed: Vec<bool> =
+        (0..mesh.points.len()).map(|i| i % 7 == 0 || i % 7 == 6 || !(7..42).contains(&i)).collect();
+    fixed[8] = true;
+    fixed[24] = true;
+    mesh.points.push([0.1, 0.7, 3.0]);
+    fixed.push(false);
+    mesh.fixed = Some(fixed.clone());
+    let input = dir.join("in.vtk");
+    io::write_mesh(&input, &mesh).unwrap();
+    let output = dir.join("out.vtk");
+    let out = quadopt(&["optimize", s(&input), "-o", s(&output), "--boundary", "slide"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("input") && text.contains("output") && text.contains("iterations"), "{text}");
+    let back = io::read_mesh(&output).unwrap();
+    assert_eq!(back.fixed.as_ref(), Some(&fixed), "fixed flags written back");
+    assert_eq!(back.quads, mesh.quads);
+    let mut moved = 0;
+    for (i, (p, q)) in back.points.iter().zip(&mesh.points).enumerate() {
+        if fixed[i] || i == mesh.points.len() - 1 {
+            assert_eq!(p.map(f64::to_bits), q.map(f64::to_bits), "vertex {i}");
+        } else {
+            moved += usize::from(p != q);
+        }
+    }
+    assert!(moved > 20, "{moved} interior vertices moved");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs a failing command: exit code, one-line stderr, and no output file.
+fn fails(args: &[&str], code: i32, needle: &str, output: Option<&Path>) {
+    let out = quadopt(args);
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains(needle), "{args:?}: {err}");
+    if code == 1 {
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        assert!(err.starts_with("quadopt: error: "), "{err}");
+    } else {
+        // clap's usage errors (with a hint after a blank line) or the option range checks.
+        let first = err.lines().next().unwrap();
+        assert!(first.starts_with("error: ") || first.starts_with("quadopt: error: "), "{err}");
+    }
+    if let Some(o) = output {
+        assert!(!o.exists(), "{} was created", o.display());
+        let leftovers: Vec<_> = std::fs::read_dir(o.parent().unwrap())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n.to_string_lossy().contains(".tmp"))
+            .collect();
+        assert!(leftovers.is_empty(), "{leftovers:?}");
+    }
+}
+
+#[test]
+fn errors_are_one_line_with_the_right_exit_code_and_no_output() {
+    let dir = scratch("errors");
+    let good = dir.join("good.obj");
+    io::write_mesh(&good, &jittered_grid(3)).unwrap();
+    let out = dir.join("out.vtk");
+    let (g, o) = (s(&good), s(&out));
+    fails(&["optimize", s(&dir.join("missing.obj")), "-o", o], 1, "missing.obj: No such file", Some(&out));
+    fails(
+        &["optimize", g, "-o", s(&dir.join("out.stl"))],
+        1,
+        "out.stl: unknown mesh format",
+        Some(&dir.join("out.stl")),
+    );
+    let tri = dir.join("tri.off");
+    std::fs::write(&tri, "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n3 0 2 3\n").unwrap();
+    fails(&["optimize", s(&tri), "-o", o], 1, "tri.off: line 8: cell 1 is a triangle", Some(&out));
+    let curved = dir.join("curved.obj");
+    std::fs::write(&curved, "v 0 0 0\nv 1 0 0\nv 1 1 1\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n")
+        .unwrap();
+    fails(&["optimize", s(&curved), "-o", o], 1, "curved.obj: the mesh is not planar", Some(&out));
+    let trunc = dir.join("trunc.vtk");
+    let text = io::write_mesh_string(io::Format::Vtk, &jittered_grid(3)).unwrap();
+    std::fs::write(&trunc, &text[..text.len() / 2]).unwrap();
+    fails(&["optimize", s(&trunc), "-o", o], 1, "unexpected end of file", Some(&out));
+    let bowtie = dir.join("nonmanifold.obj");
+    std::fs::write(&bowtie, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 1 2 0\nv 0 2 0\nf 1 2 3 4\nf 2 5 6 3\nf 2 3 7 8\n").unwrap();
+    fails(&["optimize", s(&bowtie), "-o", o], 1, "non-manifold", Some(&out));
+    fails(&["optimize", g, "-o", o, "--lambda", "2"], 2, "invalid option lambda", Some(&out));
+    fails(&["optimize", g, "-o", o, "--tau", "-1"], 2, "invalid option tau", Some(&out));
+    fails(&["optimize", g, "-o", o, "--method", "simplex"], 2, "unknown method 'simplex'", Some(&out));
+    fails(&["optimize", g, "-o", o, "--boundary", "free"], 2, "unknown boundary mode 'free'", Some(&out));
+    fails(&["optimize", g], 2, "--output", Some(&out));
+    fails(&["quality", s(&dir.join("nope.msh"))], 1, "nope.msh", None);
+    // An output in a missing directory fails after the work, leaving nothing.
+    let deep = dir.join("no/such/out.obj");
+    fails(&["optimize", g, "-o", s(&deep)], 1, "cannot write", None);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn quality_text_has_a_histogram() {
+    let dir = scratch("quality");
+    let input = dir.join("grid.msh");
+    io::write_mesh(&input, &jittered_grid(4)).unwrap();
+    let out = quadopt(&["quality", s(&input)]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("16 quads") && text.contains("<= 0.0") && text.contains("(0.9, 1.0]"), "{text}");
+    let v = json_stdout(&quadopt(&["quality", s(&input), "--json"]));
+    stats_keys(&v);
+    let h: u64 = v["histogram"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).sum();
+    assert_eq!(h, 16);
+    assert_eq!(v["histogram"][0], v["inverted"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn compare_runs_every_method() {
+    let dir = scratch("compare");
+    let (a, b) = (dir.join("a.obj"), dir.join("b.vtk"));
+    io::write_mesh(&a, &jittered_grid(4)).unwrap();
+    io::write_mesh(&b, &jittered_grid(5)).unwrap();
+    let v = json_stdout(&quadopt(&["compare", s(&a), s(&b), "--json"]));
+    let meshes = v["meshes"].as_array().unwrap();
+    assert_eq!(meshes.len(), 2);
+    let runs: Vec<(String, String)> = meshes[1]["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            stats_keys(&r["output"]);
+            (r["method"].as_str().unwrap().into(), r["boundary"].as_str().unwrap().into())
+        })
+        .collect();
+    let want = [
+        ("angle", "fixed"),
+        ("laplace", "fixed"),
+        ("cotan", "fixed"),
+        ("ep", "fixed"),
+        ("ep", "slide"),
+        ("ep", "snap"),
+    ];
+    assert_eq!(runs, want.map(|(m, b)| (m.to_string(), b.to_string())));
+    assert_eq!(meshes[0]["quads"], 16);
+    let text = String::from_utf8(quadopt(&["compare", s(&a), s(&b)]).stdout).unwrap();
+    assert!(text.contains("ep/snap") && text.contains("a.obj") && text.contains("b.vtk"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn draw_writes_a_coloured_svg() {
+    let dir = scratch("draw");
+    let input = dir.join("grid.obj");
+    io::write_mesh(&input, &jittered_grid(4)).unwrap();
+    let svg = dir.join("grid.svg");
+    assert!(quadopt(&["draw", s(&input), "-o", s(&svg)]).status.success());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+    assert_eq!(text.matches("<path ").count(), 16);
+    assert!(text.contains("linearGradient") && text.contains("scaled Jacobian"));
+    // The jitter inverts quads: some fill is a dark red (green and blue 0, red below 255).
+    assert!(
+        text.split("fill=\"#").skip(1).any(|t| &t[2..6] == "0000" && &t[..2] != "ff"),
+        "no inverted quad drawn"
+    );
+    let opt = dir.join("opt.svg");
+    assert!(
+        quadopt(&["draw", s(&input), "-o", s(&opt), "--optimized", "--boundary", "fixed"]).status.success()
+    );
+    let text = std::fs::read_to_string(&opt).unwrap();
+    assert!(text.contains("optimized (ep, fixed)"));
+    assert!(!text.split("fill=\"#").skip(1).any(|t| &t[2..6] == "0000" && &t[..2] != "ff"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn no_arguments_reports_on_the_bundled_meshes() {
+    let out = quadopt(&[]);
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let has_meshes = std::fs::read_dir(&data)
+        .map(|d| d.filter_map(|e| e.ok()).any(|e| io::Format::from_path(&e.path()).is_ok()))
+        .unwrap_or(false);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    if has_meshes {
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains("model") && stdout.contains("output min/avg/max"), "{stdout}");
+    } else {
+        assert_eq!(out.status.code(), Some(1));
+        assert!(String::from_utf8(out.stderr).unwrap().contains("no sample meshes"));
+    }
+}

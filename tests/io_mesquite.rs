@@ -1,0 +1,104 @@
+//! Reads every Mesquite quad test mesh in /work/shared/meshes/mesquite (when present; the
+//! directory is not part of the repository, so the tests skip with a message without it).
+
+use quadopt::Error;
+use quadopt::io::{self, Format, IoError, PlanarFrame, PlanarMesh};
+use std::path::{Path, PathBuf};
+
+fn mesquite() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/mesquite");
+    let dir = if dir.is_dir() { dir } else { PathBuf::from("/work/shared/meshes/mesquite") };
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipping: the Mesquite meshes (../shared/meshes/mesquite) are not available");
+        None
+    }
+}
+
+fn files(dir: &Path) -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    for sub in ["tangled", "untangled"] {
+        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
+            v.push(e.unwrap().path());
+        }
+    }
+    v.sort();
+    v
+}
+
+/// Expected outcome per file: Ok((points, quads, fixed count)) or the start of the error.
+fn expected(name: &str) -> Result<(usize, usize, Option<usize>), &'static str> {
+    Ok(match name {
+        "bias-sphere-quads.vtk" | "paraboloid.vtk" | "quads_on_sphere_529.vtk" => return Err("not planar"),
+        "polarMesh.vtk" => return Err("line 489: cell 0 is a triangle (VTK type 5)"),
+        // Its cell counts say 3 but four indices follow: a broken file.
+        "shashkov_quad_opt.vtk" => return Err("line 8328: expected a point index"),
+        "hole_in_square.vtk" => (168, 140, Some(56)),
+        "inverted-hole-1.vtk" => (96, 64, Some(64)),
+        "par_untangle_original_quad_mesh.1.0.vtk" => (169, 144, Some(48)),
+        "par_untangle_original_quad_mesh.2.0.vtk" | "par_untangle_original_quad_mesh.2.1.vtk" => {
+            (104, 84, Some(27))
+        }
+        "rotsq.vtk" => (16, 9, Some(12)),
+        "tangled_quad.vtk" => (36, 25, Some(20)),
+        "copy-morph-for-ricoh.cub.vtk" => (15364, 13678, Some(3372)),
+        "four_more_quads.vtk" | "quad_2_not_xy.vtk" | "square_quad_2.vtk" => (9, 4, Some(8)),
+        "halfCirc.vtk" => (681, 640, Some(80)),
+        "hole_scheme.vtk" => (84, 72, Some(24)),
+        "hole_scheme_opp_bias.vtk" => (203, 174, Some(58)),
+        "horse20x10_2_4.vtk" => (231, 200, Some(60)),
+        "quads_4by2.vtk" | "quads_4by2_bad.vtk" => (15, 8, Some(12)),
+        "shashkov_quad.vtk" => (4225, 4096, Some(256)),
+        "shest_grid32.vtk" => (1089, 1024, Some(128)),
+        "square_quad_10_rand.vtk" => (121, 100, Some(40)),
+        "subdiv4x4_3_2_3x3.vtk" => (45, 36, Some(16)),
+        "tfi_chevron24x24.vtk" | "ybiasqr24x24.vtk" => (625, 576, Some(96)),
+        "tfi_horse10x4-12.vtk" | "tfi_horse10x4-14.vtk" => (55, 40, Some(28)),
+        // Its CELLS line announces 80 values for 150; the per-cell counts are right.
+        "unstrquad.vtk" => (41, 30, Some(20)),
+        _ => panic!("unexpected file {name}"),
+    })
+}
+
+#[test]
+fn every_mesquite_mesh_reads_or_fails_precisely() {
+    let Some(dir) = mesquite() else { return };
+    let all = files(&dir);
+    assert!(all.len() >= 30, "{} files", all.len());
+    for path in all {
+        let name = path.file_name().unwrap().to_str().unwrap().to_string();
+        let result = io::read_mesh(&path).and_then(|d| PlanarMesh::new(&d).map(|p| (d, p)));
+        match (expected(&name), result) {
+            (Ok((np, nq, nf)), Ok((data, planar))) => {
+                let fixed = data.fixed.as_ref().map(|f| f.iter().filter(|&&x| x).count());
+                assert_eq!((data.points.len(), data.quads.len(), fixed), (np, nq, nf), "{name}");
+                let expect_tilted = name == "quad_2_not_xy.vtk";
+                assert_eq!(matches!(planar.frame, PlanarFrame::Tilted { .. }), expect_tilted, "{name}");
+                // Writing and reading back keeps everything, bit for bit.
+                let text = io::write_mesh_string(Format::Vtk, &data).unwrap();
+                assert_eq!(io::read_mesh_str(&text, Format::Vtk).unwrap(), data, "{name}");
+            }
+            (Err("not planar"), Err(IoError::Mesh(Error::NotPlanar { .. }))) => {}
+            (Err(start), Err(e)) => {
+                let msg = e.to_string();
+                let msg = msg.strip_prefix(&format!("{}: ", path.display())).unwrap_or(&msg);
+                assert!(msg.starts_with(start), "{name}: {msg}");
+            }
+            (want, got) => panic!("{name}: expected {want:?}, got {:?}", got.map(|_| ())),
+        }
+    }
+}
+
+#[test]
+fn z_minus_5_and_clockwise_meshes_map_exactly() {
+    let Some(dir) = mesquite() else { return };
+    let data = io::read_mesh(dir.join("tangled/hole_in_square.vtk")).unwrap();
+    let planar = PlanarMesh::new(&data).unwrap();
+    assert_eq!(planar.frame, PlanarFrame::Axis { axis: 2, value: -5.0 });
+    assert!(planar.mesh.has_clockwise_component());
+    // Unchanged positions write back unchanged, quads as given.
+    let mut copy = data.clone();
+    planar.write_back(&mut copy);
+    assert_eq!(copy, data);
+}

@@ -9,29 +9,37 @@
 
 use glam::DVec2;
 
-/// Verdict's `VERDICT_DBL_MIN`: edges shorter than this make a quad degenerate (value 0).
-const DEGENERATE_EDGE: f64 = 1.0e-30;
+/// Verdict (VTK 9.x) treats an edge as degenerate (quad value 0) when it is shorter than
+/// this fraction of the diagonal of the quad's bounding box, so the cut-off scales with the
+/// quad (measured against VTK 9.7.2's vtkMeshQuality, see tests/verdict.rs).
+const DEGENERATE_EDGE_RELATIVE: f64 = 10.0 * f64::EPSILON;
+
+/// Verdict's absolute cut-off for a collapsed quad measured as a triangle.
+const DEGENERATE_TRIANGLE: f64 = 1.0e-30;
 
 /// Signed scaled Jacobian at corner `p` of a quad, with `prev` and `next` its neighbours in
 /// counter-clockwise order: cross(next - p, prev - p) / (|next - p| |prev - p|).
 ///
-/// Returns 0 for a degenerate (zero-length) edge, as Verdict does.
+/// Returns 0 when one of the two edges is degenerate: zero, or shorter than
+/// 10 f64::EPSILON times the longer one (the corner analogue of Verdict's relative test).
 #[inline]
 pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
     let e1 = next - p;
     let e2 = prev - p;
-    let l = e1.length() * e2.length();
-    if e1.length() < DEGENERATE_EDGE || e2.length() < DEGENERATE_EDGE {
+    let (l1, l2) = (e1.length(), e2.length());
+    let short = DEGENERATE_EDGE_RELATIVE * l1.max(l2);
+    if l1 == 0.0 || l2 == 0.0 || l1 < short || l2 < short {
         return 0.0;
     }
-    e1.perp_dot(e2) / l
+    e1.perp_dot(e2) / (l1 * l2)
 }
 
 /// Scaled Jacobian of a quad whose corners are given counter-clockwise (the mesh's "up" side).
 ///
 /// The minimum over the four corners of the signed cross product of the normalized edge
 /// vectors; in `[-1, 1]`, 1 for a square, negative for an inverted quad. Degenerate edges give
-/// 0, and a quad collapsed to a triangle (last two corners identical) is measured as that
+/// 0 (an edge shorter than 10 f64::EPSILON times the bounding-box diagonal, Verdict's
+/// relative test), and a quad collapsed to a triangle (last two corners identical) is measured as that
 /// triangle, exactly as Verdict's `quad_scaled_jacobian` does.
 ///
 /// ```
@@ -43,16 +51,19 @@ pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
     if q[3] == q[2] {
         return triangle_scaled_jacobian(q[0], q[1], q[2]);
     }
+    let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
+    let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
+    let short = DEGENERATE_EDGE_RELATIVE * (hi - lo).length();
+    let len = [0, 1, 2, 3].map(|i| (q[(i + 1) % 4] - q[i]).length());
+    if len.iter().any(|&l| l == 0.0 || l < short) {
+        return 0.0;
+    }
     let mut min = f64::INFINITY;
     for i in 0..4 {
-        let prev = q[(i + 3) % 4];
-        let next = q[(i + 1) % 4];
-        let e1 = next - q[i];
-        let e2 = prev - q[i];
-        if e1.length() < DEGENERATE_EDGE || e2.length() < DEGENERATE_EDGE {
-            return 0.0;
-        }
-        min = min.min(e1.perp_dot(e2) / (e1.length() * e2.length()));
+        // Edges out of corner i: to the next corner (len[i]) and to the previous (len[i - 1]).
+        let e1 = q[(i + 1) % 4] - q[i];
+        let e2 = q[(i + 3) % 4] - q[i];
+        min = min.min(e1.perp_dot(e2) / (len[i] * len[(i + 3) % 4]));
     }
     min
 }
@@ -63,7 +74,7 @@ fn triangle_scaled_jacobian(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     let (e0, e1, e2) = (b - a, c - b, a - c);
     let (l0, l1, l2) = (e0.length(), e1.length(), e2.length());
     let max_product = (l0 * l2).max(l0 * l1).max(l1 * l2);
-    if max_product < DEGENERATE_EDGE {
+    if max_product < DEGENERATE_TRIANGLE {
         return 0.0;
     }
     let jacobian = e0.perp_dot(-e2);

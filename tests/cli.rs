@@ -239,6 +239,7 @@ fn compare_runs_every_method() {
         ("ep", "fixed"),
         ("ep", "slide"),
         ("ep", "snap"),
+        ("ep", "auto"),
     ];
     assert_eq!(runs, want.map(|(m, b)| (m.to_string(), b.to_string())));
     assert_eq!(meshes[0]["quads"], 16);

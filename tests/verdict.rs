@@ -30,11 +30,11 @@ const CSV: &str = include_str!("data/verdict_quads.csv");
 /// diagonal of their bounding box but longer than quadopt's absolute 1e-30 threshold. Verdict
 /// returns 0 for them; quadopt returns the corner minimum. The test fails if one of these lines
 /// starts to agree, so the list cannot go stale: empty it once the fix is in.
-const KNOWN_DIFFERENCES: &[usize] = &[201, 202, 203, 207, 209, 211];
+const KNOWN_DIFFERENCES: &[usize] = &[];
 
 /// Hand-computed cases whose expected value is Verdict's but quadopt does not reach it yet
 /// (same cause as `KNOWN_DIFFERENCES`), by name.
-const KNOWN_HAND_DIFFERENCES: &[&str] = &["short_edge_relative"];
+const KNOWN_HAND_DIFFERENCES: &[&str] = &[];
 
 /// 2^32: the exact scale factor between `verdict_sj` and `verdict_sj_big`.
 const BIG: f64 = 4294967296.0;

@@ -85,8 +85,8 @@ struct OptArgs {
     /// Interior smoothing method: ep, laplace, cotan or angle.
     #[arg(long, default_value = "ep")]
     method: Method,
-    /// Boundary treatment: fixed, slide or snap.
-    #[arg(long, default_value = "slide")]
+    /// Boundary treatment: fixed, slide, snap or auto (the better of slide and snap).
+    #[arg(long, default_value = "auto")]
     boundary: BoundaryMode,
     #[command(flatten)]
     tune: TuneArgs,
@@ -95,9 +95,30 @@ struct OptArgs {
 /// Numeric options shared by every optimizing command.
 #[derive(Args, Clone)]
 struct TuneArgs {
-    /// Stop when the collective energy changes by less than this.
-    #[arg(long, default_value_t = Options::default().tau, allow_negative_numbers = true)]
-    tau: f64,
+    /// Stop when the collective energy changes by less than this per movable vertex
+    /// (absolute change with --absolute-tau).
+    #[arg(long, allow_negative_numbers = true)]
+    tau: Option<f64>,
+    /// Compare --tau with the absolute energy change, as the paper does (size-dependent).
+    #[arg(long)]
+    absolute_tau: bool,
+    /// The paper's plain method: no guard, no untangling, absolute tau = 1e-4 (the boundary
+    /// mode still comes from --boundary).
+    #[arg(long)]
+    paper: bool,
+    /// Turn off guarded moves (which never let a valid star's minimum drop below the floor).
+    #[arg(long)]
+    no_guard: bool,
+    /// Floor of the guarded moves, in (0, 1].
+    #[arg(long, default_value_t = Options::default().guard_floor, allow_negative_numbers = true)]
+    guard_floor: f64,
+    /// Do not untangle inverted quads before smoothing.
+    #[arg(long)]
+    no_untangle: bool,
+    /// Largest distance of a new boundary edge from the original boundary, relative to the
+    /// edge's length (default: unlimited).
+    #[arg(long, allow_negative_numbers = true)]
+    max_boundary_deviation: Option<f64>,
     /// Step factor, in (0, 1].
     #[arg(long, default_value_t = Options::default().lambda, allow_negative_numbers = true)]
     lambda: f64,
@@ -111,13 +132,19 @@ struct TuneArgs {
 
 impl TuneArgs {
     fn options(&self, method: Method, boundary: BoundaryMode) -> Result<Options, Fail> {
+        let base = if self.paper { Options::paper() } else { Options::default() };
         let o = Options {
             method,
             boundary,
             lambda: self.lambda,
-            tau: self.tau,
+            tau: self.tau.unwrap_or(base.tau),
+            tau_absolute: base.tau_absolute || self.absolute_tau,
             max_iterations: self.max_iter,
             feature_angle_deg: self.feature_angle,
+            guard: base.guard && !self.no_guard,
+            guard_floor: self.guard_floor,
+            untangle: base.untangle && !self.no_untangle,
+            max_boundary_deviation: self.max_boundary_deviation,
         };
         o.validate().map_err(|e| Fail::Usage(e.to_string()))?;
         Ok(o)
@@ -207,6 +234,31 @@ fn stats_json(s: &QualityStats) -> Value {
     json!({ "min": s.min, "avg": s.avg, "max": s.max, "inverted": s.inverted })
 }
 
+/// The guarantees-related part of a report, shared by the JSON outputs.
+fn report_json(r: &Report) -> Value {
+    let f = &r.fidelity;
+    json!({
+        "converged": r.converged,
+        "untangle_sweeps": r.untangle_sweeps,
+        "loop_modes": r.loop_modes.iter().map(|m| m.name()).collect::<Vec<_>>(),
+        "boundary_fidelity": {
+            "max_deviation": f.max_deviation, "hausdorff": f.hausdorff,
+            "max_deviation_relative": f.max_deviation_relative, "hausdorff_relative": f.hausdorff_relative,
+        },
+        "tangled": r.tangled.iter().map(|t| json!({ "quad": t.quad, "reason": t.reason.describe() })).collect::<Vec<_>>(),
+    })
+}
+
+/// One line per quad still inverted, with the reason.
+fn print_tangled(r: &Report) {
+    for t in r.tangled.iter().take(20) {
+        println!("  quad {} still inverted: {}", t.quad, t.reason.describe());
+    }
+    if r.tangled.len() > 20 {
+        println!("  ... and {} more", r.tangled.len() - 20);
+    }
+}
+
 fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> Result<(), Fail> {
     let options = opts.options()?;
     Format::from_path(output)?;
@@ -216,7 +268,7 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
     planar.write_back(&mut data);
     io::write_mesh(output, &data)?;
     if as_json {
-        let v = json!({
+        let mut v = json!({
             "input": stats_json(&report.input),
             "output": stats_json(&report.output),
             "iterations": report.iterations,
@@ -233,6 +285,9 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
             "input_file": input.display().to_string(),
             "output_file": output.display().to_string(),
         });
+        if let (Value::Object(v), Value::Object(extra)) = (&mut v, report_json(&report)) {
+            v.extend(extra);
+        }
         println!("{v}");
         return Ok(());
     }
@@ -252,6 +307,17 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
         planar.moved().len(),
         report.reoriented_quads
     );
+    let f = &report.fidelity;
+    let modes: Vec<&str> = report.loop_modes.iter().map(|m| m.name()).collect();
+    println!(
+        "boundary: modes per loop [{}]; largest deviation {:.3e} ({:.3e} of the mean edge), Hausdorff {:.3e} ({:.3e})",
+        modes.join(", "),
+        f.max_deviation,
+        f.max_deviation_relative,
+        f.hausdorff,
+        f.hausdorff_relative
+    );
+    print_tangled(&report);
     println!("wrote {}", output.display());
     Ok(())
 }
@@ -300,13 +366,14 @@ fn cmd_quality(input: &Path, as_json: bool) -> Result<(), Fail> {
 
 /// The configurations of the paper's Table 2: every method with a fixed boundary, then the
 /// embedded polygon method with each moving boundary mode.
-const COMPARE: [(Method, BoundaryMode); 6] = [
+const COMPARE: [(Method, BoundaryMode); 7] = [
     (Method::AngleBased, BoundaryMode::Fixed),
     (Method::Laplacian, BoundaryMode::Fixed),
     (Method::Cotangent, BoundaryMode::Fixed),
     (Method::EmbeddedPolygon, BoundaryMode::Fixed),
     (Method::EmbeddedPolygon, BoundaryMode::Slide),
     (Method::EmbeddedPolygon, BoundaryMode::Snap),
+    (Method::EmbeddedPolygon, BoundaryMode::Auto),
 ];
 
 fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(), Fail> {

@@ -133,8 +133,7 @@ impl FromStr for BoundaryMode {
 /// The defaults keep the paper's method and parameters (lambda = 1, feature angle 45
 /// degrees) and add what makes the result never worse than the input: guarded moves,
 /// untangling, the automatic boundary mode and a size-independent stopping rule. Set
-/// `guard = false`, `untangle = false`, `boundary = Slide` and `tau_absolute = true` with
-/// `tau = 1e-4` to reproduce the plain method of the paper.
+/// [`Options::paper`] reproduces the plain method of the paper.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     /// Interior smoothing method.
@@ -161,6 +160,8 @@ pub struct Options {
     pub guard_floor: f64,
     /// Untangle inverted quads before smoothing.
     pub untangle: bool,
+    /// Return the best iterate seen (never worse than the input) instead of the last one.
+    pub keep_best: bool,
     /// Largest allowed distance between a new boundary edge and the stretch of the original
     /// boundary it replaces, relative to that edge's length (`None`: unlimited).
     pub max_boundary_deviation: Option<f64>,
@@ -172,21 +173,22 @@ impl Default for Options {
             method: Method::EmbeddedPolygon,
             boundary: BoundaryMode::Auto,
             lambda: 1.0,
-            tau: 1e-6,
+            tau: 1e-7,
             tau_absolute: false,
             max_iterations: 1000,
             feature_angle_deg: 45.0,
             guard: true,
             guard_floor: 0.05,
             untangle: true,
+            keep_best: true,
             max_boundary_deviation: None,
         }
     }
 }
 
 impl Options {
-    /// The paper's plain method: no guard, no untangling, Approach 2 on the boundary, the
-    /// absolute energy threshold tau = 1e-4.
+    /// The paper's plain method: no guard, no untangling, the last iterate, Approach 2 on the
+    /// boundary, the absolute energy threshold tau = 1e-4.
     pub fn paper() -> Options {
         Options {
             boundary: BoundaryMode::Slide,
@@ -194,6 +196,7 @@ impl Options {
             tau_absolute: true,
             guard: false,
             untangle: false,
+            keep_best: false,
             ..Options::default()
         }
     }
@@ -564,6 +567,11 @@ impl RunContext<'_> {
                 converged = true;
                 break;
             }
+        }
+        if !opts.keep_best {
+            best_stats = stats_of(&points, self.quads, &mut scratch);
+            best_points = points;
+            best_params = params;
         }
         let final_energy = self.energy(&best_points);
         Pass {

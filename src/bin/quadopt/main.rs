@@ -145,6 +145,7 @@ impl TuneArgs {
             guard_floor: self.guard_floor,
             untangle: base.untangle && !self.no_untangle,
             max_boundary_deviation: self.max_boundary_deviation,
+            ..base
         };
         o.validate().map_err(|e| Fail::Usage(e.to_string()))?;
         Ok(o)

@@ -154,7 +154,8 @@ pub struct Options {
     /// corner and never moves, in degrees within [0, 180].
     pub feature_angle_deg: f64,
     /// Guarded moves: a vertex with a valid star may not lower its star's minimum scaled
-    /// Jacobian below min(current, `guard_floor`).
+    /// Jacobian below min(current, floor), where the floor is the larger of `guard_floor` and
+    /// the input's minimum scaled Jacobian (so a valid mesh's worst quad never gets worse).
     pub guard: bool,
     /// The guard's floor, in (0, 1].
     pub guard_floor: f64,
@@ -382,6 +383,7 @@ impl Optimizer {
             options,
             quads: mesh.quads(),
             input,
+            floor: options.guard_floor.max(input.min),
         };
 
         let (pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
@@ -409,7 +411,7 @@ impl Optimizer {
             movable: features.movable_vertices().len(),
             loop_modes,
             fidelity,
-            tangled: untangle::diagnose(mesh.points(), mesh.quads(), &features),
+            tangled: untangle::diagnose(mesh.points(), mesh.quads(), topo, &features),
         })
     }
 }
@@ -434,6 +436,8 @@ struct RunContext<'a> {
     options: &'a Options,
     quads: &'a [[u32; 4]],
     input: QualityStats,
+    /// The guard's floor for this run.
+    floor: f64,
 }
 
 /// Loops beyond which `Auto` decides for the whole mesh at once instead of per loop.
@@ -636,13 +640,13 @@ impl RunContext<'_> {
         if self.features.is_boundary(v) {
             // A boundary vertex must stay on the polyline: accept its move or stay.
             let ok = guard::star_min(points, self.quads, self.topo, v, target)
-                >= guard::star_min(points, self.quads, self.topo, v, points[v]).min(opts.guard_floor)
+                >= guard::star_min(points, self.quads, self.topo, v, points[v]).min(self.floor)
                 || guard::star_min(points, self.quads, self.topo, v, points[v]) <= 0.0;
             let (position, param) =
                 if ok { (target, param) } else { (points[v], current_param(self.geometry, params, v)) };
             return Update { vertex: v as u32, position, param, energy };
         }
-        let position = guard::guarded_position(points, self.quads, self.topo, v, target, opts.guard_floor);
+        let position = guard::guarded_position(points, self.quads, self.topo, v, target, self.floor);
         Update { vertex: v as u32, position, param, energy }
     }
 }

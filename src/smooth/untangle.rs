@@ -24,6 +24,10 @@ pub enum TangleReason {
     /// example a concave boundary corner inside a single quad, the paper's mazewheel case):
     /// no placement of the movable vertices can fix it.
     ForcedByFixedVertices,
+    /// The quad is the only quad at a fixed boundary vertex whose boundary angle is 180
+    /// degrees or more (a straight or concave stretch of boundary folded into one quad): its
+    /// neighbours can only slide along the boundary, so the angle cannot shrink.
+    BoundaryAngle,
     /// The local untangler found no valid placement (one may still exist).
     NotResolved,
 }
@@ -34,6 +38,9 @@ impl TangleReason {
         match self {
             TangleReason::AllVerticesFixed => "all four vertices are fixed",
             TangleReason::ForcedByFixedVertices => "a reflex corner is formed by three fixed vertices",
+            TangleReason::BoundaryAngle => {
+                "it spans a boundary angle of 180 degrees or more at a vertex of one quad"
+            }
             TangleReason::NotResolved => "the local untangler found no valid placement",
         }
     }
@@ -207,7 +214,12 @@ pub fn untangle(
 }
 
 /// Explains every quad that is still inverted at `points`.
-pub fn diagnose(points: &[DVec2], quads: &[[u32; 4]], features: &Features) -> Vec<TangledQuad> {
+pub fn diagnose(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    features: &Features,
+) -> Vec<TangledQuad> {
     let mut out = Vec::new();
     for (qi, q) in quads.iter().enumerate() {
         let c = corners(points, q);
@@ -222,6 +234,15 @@ pub fn diagnose(points: &[DVec2], quads: &[[u32; 4]], features: &Features) -> Ve
             fixed(k + 3) && fixed(k) && fixed(k + 1) && (next - p).perp_dot(prev - p) <= 0.0
         }) {
             TangleReason::ForcedByFixedVertices
+        } else if (0..4).any(|k| {
+            let v = q[k] as usize;
+            let (prev, p, next) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
+            fixed(k)
+                && topo.kind(v) == VertexKind::Boundary
+                && topo.quad_count(v) == 1
+                && (next - p).perp_dot(prev - p) <= 0.0
+        }) {
+            TangleReason::BoundaryAngle
         } else {
             TangleReason::NotResolved
         };

@@ -34,6 +34,7 @@ pub mod io;
 pub mod mesh;
 pub mod quality;
 pub mod smooth;
+pub mod synthetic;
 pub mod topology;
 
 pub use error::{Error, Result};

@@ -290,3 +290,32 @@ fn no_arguments_reports_on_the_bundled_meshes() {
         assert!(String::from_utf8(out.stderr).unwrap().contains("no sample meshes"));
     }
 }
+
+#[test]
+fn generate_writes_the_requested_synthetic_mesh() {
+    let dir = scratch("generate");
+    let path = dir.join("grid.obj");
+    let out = quadopt(&["generate", "-o", s(&path), "--nx", "30", "--ny", "20", "--holes", "0", "--jitter", "0"]);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let mesh = io::read_mesh(&path).unwrap();
+    assert_eq!(mesh.points.len(), 31 * 21);
+    assert_eq!(mesh.quads.len(), 600);
+    // Quality of an unperturbed grid, as the quality command sees it.
+    let q = json_stdout(&quadopt(&["quality", s(&path), "--json"]));
+    assert_eq!(q["min"].as_f64(), Some(1.0));
+
+    // --quads sizes the grid; holes and jitter make it worth optimizing.
+    let path = dir.join("holes.vtk");
+    assert!(quadopt(&["generate", "-o", s(&path), "--quads", "5000", "--jitter", "0.45"]).status.success());
+    let q = json_stdout(&quadopt(&["quality", s(&path), "--json"]));
+    let quads = q["quads"].as_u64().unwrap();
+    assert!((4750..=5250).contains(&quads), "{quads} quads");
+    assert!(q["inverted"].as_u64().unwrap() > 0);
+
+    // Bad parameters are usage errors and write nothing.
+    let bad = dir.join("bad.vtk");
+    let out = quadopt(&["generate", "-o", s(&bad), "--hole-size", "1.5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--hole-size"));
+    assert!(!bad.exists());
+}

@@ -12,6 +12,7 @@ mod svg;
 
 use clap::{Args, Parser, Subcommand};
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
+use quadopt::synthetic::Synthetic;
 use quadopt::{BoundaryMode, Method, Optimizer, Options, Progress, QuadMesh, QualityStats, Report};
 use serde_json::{Value, json};
 use std::io::IsTerminal;
@@ -76,6 +77,33 @@ enum Command {
         optimized: bool,
         #[command(flatten)]
         opts: OptArgs,
+    },
+    /// Write a synthetic benchmark mesh: a grid with circular holes and jittered interior vertices.
+    Generate {
+        /// Output mesh (format from its extension).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Approximate number of quads of a square grid (overrides --nx and --ny).
+        #[arg(long)]
+        quads: Option<usize>,
+        /// Cells along x.
+        #[arg(long, default_value_t = Synthetic::default().nx)]
+        nx: u32,
+        /// Cells along y.
+        #[arg(long, default_value_t = Synthetic::default().ny)]
+        ny: u32,
+        /// Number of circular holes.
+        #[arg(long, default_value_t = Synthetic::default().holes)]
+        holes: u32,
+        /// Hole diameter as a fraction of the hole spacing, in [0, 1).
+        #[arg(long, default_value_t = Synthetic::default().hole_size)]
+        hole_size: f64,
+        /// Largest interior vertex displacement per axis, in grid spacings (>= 0.25 may fold quads).
+        #[arg(long, default_value_t = Synthetic::default().jitter)]
+        jitter: f64,
+        /// Seed of the perturbation.
+        #[arg(long, default_value_t = Synthetic::default().seed)]
+        seed: u64,
     },
 }
 
@@ -178,6 +206,13 @@ fn main() -> ExitCode {
         Some(Command::Quality { input, json }) => cmd_quality(&input, json),
         Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
         Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
+        Some(Command::Generate { output, quads, nx, ny, holes, hole_size, jitter, seed }) => {
+            let spec = match quads {
+                Some(n) => Synthetic { holes, hole_size, jitter, seed, ..Synthetic::with_quads(n) },
+                None => Synthetic { nx, ny, holes, hole_size, jitter, seed },
+            };
+            cmd_generate(&output, &spec)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -447,6 +482,33 @@ fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Res
         format!("{name}: min {:.3}, avg {:.3}, {} inverted", q.min, q.avg, q.inverted)
     };
     write_atomic(output, svg::render(&planar.mesh, &title).as_bytes())?;
+    Ok(())
+}
+
+fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
+    Format::from_path(output)?;
+    if !(0.0..1.0).contains(&spec.hole_size) {
+        return Err(Fail::Usage(format!("--hole-size {} is not in [0, 1)", spec.hole_size)));
+    }
+    if !(spec.jitter >= 0.0 && spec.jitter.is_finite()) {
+        return Err(Fail::Usage(format!("--jitter {} is not a finite number >= 0", spec.jitter)));
+    }
+    if spec.nx == 0 || spec.ny == 0 {
+        return Err(Fail::Usage("--nx and --ny must be at least 1".into()));
+    }
+    let mesh = spec.generate();
+    let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
+    io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
+    let q = mesh.quality();
+    println!(
+        "wrote {}: {} vertices, {} quads; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",
+        output.display(),
+        mesh.points().len(),
+        mesh.quads().len(),
+        q.min,
+        q.avg,
+        q.inverted
+    );
     Ok(())
 }
 

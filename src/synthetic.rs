@@ -1,0 +1,188 @@
+//! Synthetic meshes for benchmarks and stress tests: a structured grid with circular holes cut
+//! out (their boundaries are the grid's staircase) and the interior vertices randomly
+//! perturbed. Generation is deterministic: the same [`Synthetic`] always gives the same mesh,
+//! on every platform (a PCG generator seeded with [`Synthetic::seed`]).
+//!
+//! ```
+//! use quadopt::synthetic::Synthetic;
+//! let mesh = Synthetic::with_quads(10_000).generate();
+//! assert!((mesh.quads().len() as f64 - 10_000.0).abs() < 500.0);
+//! assert!(mesh.quality().min < 0.9); // the jitter made it worth optimizing
+//! ```
+
+use crate::mesh::QuadMesh;
+use glam::DVec2;
+use rand_core::{RngCore, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+
+/// Parameters of a synthetic mesh: an `nx` by `ny` grid of unit squares with `holes` circular
+/// holes on a regular lattice, interior vertices jittered by up to `jitter` grid spacings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Synthetic {
+    /// Cells along x (>= 1).
+    pub nx: u32,
+    /// Cells along y (>= 1).
+    pub ny: u32,
+    /// Number of holes, placed on the smallest square lattice that holds them.
+    pub holes: u32,
+    /// Hole diameter as a fraction of the lattice spacing, in [0, 1).
+    pub hole_size: f64,
+    /// Largest displacement of an interior vertex along x and along y, in grid spacings.
+    /// Below 0.25 no quad can fold (each corner's cross product stays above 1 - 4 * jitter);
+    /// from about 0.4 on some do, like a tangled input.
+    pub jitter: f64,
+    /// Seed of the random perturbation.
+    pub seed: u64,
+}
+
+impl Default for Synthetic {
+    fn default() -> Self {
+        Synthetic { nx: 100, ny: 100, holes: 4, hole_size: 0.5, jitter: 0.3, seed: 1 }
+    }
+}
+
+impl Synthetic {
+    /// A square grid with the default holes and jitter, sized to have about `quads` quads.
+    pub fn with_quads(quads: usize) -> Synthetic {
+        let d = Synthetic::default();
+        // Fraction of the domain the holes remove: k*k lattice cells, `holes` of them with a
+        // disc of diameter hole_size.
+        let k = lattice_side(d.holes) as f64;
+        let removed = d.holes as f64 * std::f64::consts::PI * (d.hole_size / 2.0).powi(2) / (k * k);
+        let side = ((quads as f64 / (1.0 - removed)).sqrt().round() as u32).max(1);
+        Synthetic { nx: side, ny: side, ..d }
+    }
+
+    /// Builds the mesh. Vertices are numbered row by row, unused grid points dropped.
+    pub fn generate(&self) -> QuadMesh {
+        let (nx, ny) = (self.nx.max(1) as usize, self.ny.max(1) as usize);
+        let kept = self.kept_cells(nx, ny);
+        // Grid vertex (i, j) has index j * (nx + 1) + i; count the kept cells around each.
+        let stride = nx + 1;
+        let mut incident = vec![0u8; stride * (ny + 1)];
+        for j in 0..ny {
+            for i in 0..nx {
+                if kept[j * nx + i] {
+                    for g in [j * stride + i, j * stride + i + 1, (j + 1) * stride + i, (j + 1) * stride + i + 1] {
+                        incident[g] += 1;
+                    }
+                }
+            }
+        }
+        let mut index = vec![u32::MAX; incident.len()];
+        let mut points = Vec::new();
+        let mut rng = Pcg64Mcg::seed_from_u64(self.seed);
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let g = j * stride + i;
+                if incident[g] == 0 {
+                    continue;
+                }
+                let mut p = DVec2::new(i as f64, j as f64);
+                // Only vertices with four kept cells around them are interior; boundary
+                // vertices stay on the (staircase) boundary.
+                if incident[g] == 4 {
+                    p += self.jitter * DVec2::new(symmetric_unit(&mut rng), symmetric_unit(&mut rng));
+                }
+                index[g] = points.len() as u32;
+                points.push(p);
+            }
+        }
+        let mut quads = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
+        for j in 0..ny {
+            for i in 0..nx {
+                if kept[j * nx + i] {
+                    let a = j * stride + i;
+                    quads.push([index[a], index[a + 1], index[a + stride + 1], index[a + stride]]);
+                }
+            }
+        }
+        QuadMesh::new(points, quads, None).expect("a synthetic grid is a valid mesh")
+    }
+
+    /// Which cells survive: those whose centre lies outside every hole.
+    fn kept_cells(&self, nx: usize, ny: usize) -> Vec<bool> {
+        let k = lattice_side(self.holes);
+        let (w, h) = (nx as f64, ny as f64);
+        let radius = self.hole_size.clamp(0.0, 0.999) * 0.5 * (w / k as f64).min(h / k as f64);
+        let centres: Vec<DVec2> = (0..self.holes as usize)
+            .map(|n| DVec2::new((n % k) as f64 + 0.5, (n / k) as f64 + 0.5) * DVec2::new(w, h) / k as f64)
+            .collect();
+        let mut kept = vec![true; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                let c = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
+                kept[j * nx + i] = centres.iter().all(|&o| (c - o).length() >= radius);
+            }
+        }
+        kept
+    }
+}
+
+/// Side of the smallest square lattice with at least `holes` sites.
+fn lattice_side(holes: u32) -> usize {
+    let mut k = 1;
+    while k * k < holes as usize {
+        k += 1;
+    }
+    k
+}
+
+/// A uniform number in [-1, 1) from 53 random bits.
+fn symmetric_unit(rng: &mut Pcg64Mcg) -> f64 {
+    (rng.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::topology::Topology;
+
+    #[test]
+    fn plain_grid_has_the_expected_counts_and_perfect_quality() {
+        let m = Synthetic { nx: 5, ny: 3, holes: 0, jitter: 0.0, ..Synthetic::default() }.generate();
+        assert_eq!(m.points().len(), 6 * 4);
+        assert_eq!(m.quads().len(), 15);
+        assert_eq!(m.quality().min, 1.0);
+    }
+
+    #[test]
+    fn holes_add_boundary_loops_and_keep_the_boundary_unjittered() {
+        let s = Synthetic { nx: 40, ny: 40, holes: 4, jitter: 0.24, ..Synthetic::default() };
+        let m = s.generate();
+        let topo = Topology::new(&m);
+        assert_eq!(topo.loop_count(), 5, "outer boundary and four holes");
+        for l in topo.boundary_loops() {
+            for &v in l {
+                let p = m.points()[v as usize];
+                assert_eq!(p, p.round(), "boundary vertex {v} moved off the grid");
+            }
+        }
+        // Below a quarter spacing of jitter, no quad can fold.
+        assert_eq!(m.quality().inverted, 0);
+        assert!(m.quality().min < 0.7);
+    }
+
+    #[test]
+    fn generation_is_deterministic_and_seed_dependent() {
+        let s = Synthetic { nx: 20, ny: 20, ..Synthetic::default() };
+        assert_eq!(s.generate().points(), s.generate().points());
+        assert_ne!(s.generate().points(), Synthetic { seed: 2, ..s }.generate().points());
+    }
+
+    #[test]
+    fn large_jitter_inverts_quads() {
+        let m = Synthetic { nx: 30, ny: 30, jitter: 0.45, ..Synthetic::default() }.generate();
+        assert!(m.quality().inverted > 0);
+    }
+
+    #[test]
+    fn with_quads_hits_the_requested_size() {
+        for n in [1_000usize, 100_000] {
+            let s = Synthetic::with_quads(n);
+            let (nx, ny) = (s.nx as usize, s.ny as usize);
+            let quads = s.kept_cells(nx, ny).iter().filter(|&&k| k).count();
+            assert!((quads as f64 / n as f64 - 1.0).abs() < 0.05, "{n}: got {quads}");
+        }
+    }
+}

@@ -94,14 +94,108 @@ fn star_corners(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize,
     }
 }
 
-/// Position maximizing the smallest of `f` inside the box [lo, hi], and that smallest value.
-fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
-    // Constraint rows a . (x, y, t) <= b: t - g.v <= c for each f, and the four box sides.
+/// Constraint rows a . (x, y, t) <= b of the program: t - g . v <= c for each f, then the four
+/// sides of the box.
+fn program_rows(f: &[Linear], lo: DVec2, hi: DVec2) -> Vec<([f64; 3], f64)> {
     let mut rows: Vec<([f64; 3], f64)> = f.iter().map(|l| ([-l.g.x, -l.g.y, 1.0], l.c)).collect();
     rows.push(([1.0, 0.0, 0.0], hi.x));
     rows.push(([-1.0, 0.0, 0.0], -lo.x));
     rows.push(([0.0, 1.0, 0.0], hi.y));
     rows.push(([0.0, -1.0, 0.0], -lo.y));
+    rows
+}
+
+/// Pivots after which [`max_min`] gives up on the simplex (it needs a handful in practice).
+const MAX_PIVOTS: usize = 200;
+
+/// Position maximizing the smallest of `f` inside the box [lo, hi], and that smallest value.
+///
+/// A primal simplex walking the vertices of the 3-variable program (active-set form: three
+/// tight rows define the vertex; drop the one with a negative multiplier, move along the edge
+/// the other two keep, stop at the first row that becomes tight), with Bland's rule against
+/// cycling. It starts from the box corner `lo` with t at the smallest f there, so each pivot
+/// costs one 3x3 solve and one pass over the rows instead of the O(m^4) of visiting every
+/// vertex.
+fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
+    if f.is_empty() || !(lo.is_finite() && hi.is_finite()) || lo.cmpgt(hi).any() {
+        return None;
+    }
+    let rows = program_rows(f, lo, hi);
+    let m = f.len();
+    let scale = f.iter().map(|l| l.c.abs() + l.g.length() * (hi - lo).length()).fold(1e-300, f64::max);
+    let tol = 1e-12 * scale;
+    let dot = |a: &[f64; 3], z: &[f64; 3]| a[0] * z[0] + a[1] * z[1] + a[2] * z[2];
+    let l1 = |a: &[f64; 3]| a[0].abs() + a[1].abs() + a[2].abs();
+    // Start: v = lo (tight: x >= lo.x, y >= lo.y), t = min f(lo) (tight: its row).
+    let (first, t0) = f
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (i, l.at(lo)))
+        .fold((0, f64::INFINITY), |best, (i, t)| if t < best.1 { (i, t) } else { best });
+    let mut z = [lo.x, lo.y, t0];
+    let mut active = [first, m + 1, m + 3];
+    for _ in 0..MAX_PIVOTS {
+        let a = [rows[active[0]].0, rows[active[1]].0, rows[active[2]].0];
+        let Some(inv) = inverse3(a) else { break };
+        // Multipliers of the tight rows: A^T lambda = (0, 0, 1), so lambda_k = inv[2][k].
+        let lambda = [inv[2][0], inv[2][1], inv[2][2]];
+        // Bland: among negative multipliers, the row of smallest index leaves.
+        let leave = (0..3).filter(|&k| lambda[k] < -1e-14).min_by_key(|&k| active[k]);
+        let Some(k) = leave else {
+            return Some((DVec2::new(z[0], z[1]), z[2]));
+        };
+        // Edge direction d with A d = -e_k: minus column k of the inverse.
+        let d = [-inv[0][k], -inv[1][k], -inv[2][k]];
+        let mut enter: Option<(usize, f64)> = None;
+        for (r, (row, b)) in rows.iter().enumerate() {
+            if active.contains(&r) {
+                continue;
+            }
+            let rate = dot(row, &d);
+            if rate <= 1e-14 * l1(row) * l1(&d) {
+                continue;
+            }
+            let step = ((b - dot(row, &z)) / rate).max(0.0);
+            if enter.is_none_or(|(_, s)| step < s - tol * 1e-3) {
+                enter = Some((r, step));
+            }
+        }
+        let (r, step) = enter?;
+        for (zi, di) in z.iter_mut().zip(d) {
+            *zi += step * di;
+        }
+        active[k] = r;
+    }
+    max_min_exhaustive(f, lo, hi)
+}
+
+/// Inverse of a 3x3 matrix; `None` if (nearly) singular.
+fn inverse3(a: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let c = |r0: usize, c0: usize, r1: usize, c1: usize| a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0];
+    let cof = [
+        [c(1, 1, 2, 2), -c(1, 0, 2, 2), c(1, 0, 2, 1)],
+        [-c(0, 1, 2, 2), c(0, 0, 2, 2), -c(0, 0, 2, 1)],
+        [c(0, 1, 1, 2), -c(0, 0, 1, 2), c(0, 0, 1, 1)],
+    ];
+    let det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    let norm: f64 = a.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
+    if !(det.abs() > 1e-12 * norm.powi(3)) {
+        return None;
+    }
+    // inverse = adjugate / det, adjugate = transposed cofactors.
+    let mut inv = [[0.0; 3]; 3];
+    for (r, row) in inv.iter_mut().enumerate() {
+        for (col, x) in row.iter_mut().enumerate() {
+            *x = cof[col][r] / det;
+        }
+    }
+    Some(inv)
+}
+
+/// [`max_min`] by visiting every vertex of the arrangement (O(m^4) for m constraints): the
+/// reference the simplex is tested against, and its fallback should it ever fail to finish.
+fn max_min_exhaustive(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
+    let rows = program_rows(f, lo, hi);
     let scale = f.iter().map(|l| l.c.abs() + l.g.length() * (hi - lo).length()).fold(1e-300, f64::max);
     let tol = 1e-9 * scale;
     let mut best: Option<(DVec2, f64)> = None;
@@ -278,5 +372,30 @@ mod tests {
         let f = [Linear { g: DVec2::X, c: 0.0 }, Linear { g: -DVec2::X, c: 1.0 }];
         let (v, t) = max_min(&f, DVec2::ZERO, DVec2::ONE).unwrap();
         assert!((t - 0.5).abs() < 1e-12 && (v.x - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn simplex_matches_the_exhaustive_search_on_random_programs() {
+        // Deterministic pseudo-random programs like a star's: 4 to 24 corner functions.
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        };
+        for case in 0..2000 {
+            let m = 4 + case % 21;
+            let f: Vec<Linear> =
+                (0..m).map(|_| Linear { g: DVec2::new(rnd(), rnd()) * 3.0, c: rnd() * 2.0 }).collect();
+            let (lo, hi) = (DVec2::new(rnd(), rnd()) - 1.5, DVec2::new(rnd(), rnd()) + 1.5);
+            let (v, t) = max_min(&f, lo, hi).unwrap();
+            let (_, t_ref) = max_min_exhaustive(&f, lo, hi).unwrap();
+            assert!((t - t_ref).abs() <= 1e-9 * (1.0 + t_ref.abs()), "case {case}: {t} vs {t_ref}");
+            // The point is feasible and attains the value.
+            assert!(v.cmpge(lo - 1e-12).all() && v.cmple(hi + 1e-12).all(), "case {case}: {v} outside");
+            let at = f.iter().map(|l| l.at(v)).fold(f64::INFINITY, f64::min);
+            assert!((at - t).abs() <= 1e-9 * (1.0 + t.abs()), "case {case}: value {at} vs {t}");
+        }
     }
 }

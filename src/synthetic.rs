@@ -63,7 +63,9 @@ impl Synthetic {
         for j in 0..ny {
             for i in 0..nx {
                 if kept[j * nx + i] {
-                    for g in [j * stride + i, j * stride + i + 1, (j + 1) * stride + i, (j + 1) * stride + i + 1] {
+                    for g in
+                        [j * stride + i, j * stride + i + 1, (j + 1) * stride + i, (j + 1) * stride + i + 1]
+                    {
                         incident[g] += 1;
                     }
                 }

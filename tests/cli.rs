@@ -295,7 +295,8 @@ fn no_arguments_reports_on_the_bundled_meshes() {
 fn generate_writes_the_requested_synthetic_mesh() {
     let dir = scratch("generate");
     let path = dir.join("grid.obj");
-    let out = quadopt(&["generate", "-o", s(&path), "--nx", "30", "--ny", "20", "--holes", "0", "--jitter", "0"]);
+    let out =
+        quadopt(&["generate", "-o", s(&path), "--nx", "30", "--ny", "20", "--holes", "0", "--jitter", "0"]);
     assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
     let mesh = io::read_mesh(&path).unwrap();
     assert_eq!(mesh.points.len(), 31 * 21);
@@ -318,4 +319,21 @@ fn generate_writes_the_requested_synthetic_mesh() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--hole-size"));
     assert!(!bad.exists());
+}
+
+#[test]
+fn a_closed_stdout_ends_the_output_quietly() {
+    // `quadopt compare ... | head -1`: the reader goes away before the table is written.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_quadopt"))
+        .args(["compare", s(&data.join("plate_1hole.vtk")), s(&data.join("plate_2holes.vtk"))])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
 }

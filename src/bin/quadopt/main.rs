@@ -10,6 +10,27 @@
 
 mod svg;
 
+/// `print!` that ends the program quietly when stdout is closed (`quadopt compare ... | head`)
+/// instead of panicking with "failed printing to stdout".
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if write!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
+/// `println!` with the behaviour of [`out!`].
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
 use clap::{Args, Parser, Subcommand};
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
 use quadopt::synthetic::Synthetic;
@@ -288,10 +309,10 @@ fn report_json(r: &Report) -> Value {
 /// One line per quad still inverted, with the reason.
 fn print_tangled(r: &Report) {
     for t in r.tangled.iter().take(20) {
-        println!("  quad {} still inverted: {}", t.quad, t.reason.describe());
+        outln!("  quad {} still inverted: {}", t.quad, t.reason.describe());
     }
     if r.tangled.len() > 20 {
-        println!("  ... and {} more", r.tangled.len() - 20);
+        outln!("  ... and {} more", r.tangled.len() - 20);
     }
 }
 
@@ -324,16 +345,16 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
         if let (Value::Object(v), Value::Object(extra)) = (&mut v, report_json(&report)) {
             v.extend(extra);
         }
-        println!("{v}");
+        outln!("{v}");
         return Ok(());
     }
-    println!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
-    println!("method {}, boundary {}", options.method.name(), options.boundary.name());
-    println!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
+    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!("method {}, boundary {}", options.method.name(), options.boundary.name());
+    outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
     for (name, s) in [("input", &report.input), ("output", &report.output)] {
-        println!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
+        outln!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
     }
-    println!(
+    outln!(
         "{} iterations ({}), {:.3} s; {} corners, {} movable vertices, {} moved, {} quads reoriented",
         report.iterations,
         if report.converged { "converged" } else { "iteration cap" },
@@ -345,7 +366,7 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
     );
     let f = &report.fidelity;
     let modes: Vec<&str> = report.loop_modes.iter().map(|m| m.name()).collect();
-    println!(
+    outln!(
         "boundary: modes per loop [{}]; largest deviation {:.3e} ({:.3e} of the mean edge), Hausdorff {:.3e} ({:.3e})",
         modes.join(", "),
         f.max_deviation,
@@ -354,7 +375,7 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
         f.hausdorff_relative
     );
     print_tangled(&report);
-    println!("wrote {}", output.display());
+    outln!("wrote {}", output.display());
     Ok(())
 }
 
@@ -379,11 +400,11 @@ fn cmd_quality(input: &Path, as_json: bool) -> Result<(), Fail> {
         v["vertices"] = json!(data.points.len());
         v["quads"] = json!(data.quads.len());
         v["histogram"] = json!(h);
-        println!("{v}");
+        outln!("{v}");
         return Ok(());
     }
-    println!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
-    println!(
+    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!(
         "scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted",
         s.min, s.avg, s.max, s.inverted
     );
@@ -395,7 +416,7 @@ fn cmd_quality(input: &Path, as_json: bool) -> Result<(), Fail> {
             format!("({:.1}, {:.1}]", (i - 1) as f64 / 10.0, i as f64 / 10.0)
         };
         let bar = "#".repeat((count * 40).div_ceil(most));
-        println!("  {label:>10} {count:>7} {bar}");
+        outln!("  {label:>10} {count:>7} {bar}");
     }
     Ok(())
 }
@@ -444,21 +465,21 @@ fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
                         "input": stats_json(q), "results": runs })
             })
             .collect();
-        println!("{}", json!({ "meshes": meshes }));
+        outln!("{}", json!({ "meshes": meshes }));
         return Ok(());
     }
-    print!("{:24} {:>15}", "mesh (min/avg)", "input");
+    out!("{:24} {:>15}", "mesh (min/avg)", "input");
     for o in &configs {
-        print!(" {:>15}", format!("{}/{}", o.method.name(), o.boundary.name()));
+        out!(" {:>15}", format!("{}/{}", o.method.name(), o.boundary.name()));
     }
-    println!();
+    outln!();
     for (input, _, _, q, results) in &rows {
         let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        print!("{name:24} {:>15}", format!("{:.3}/{:.3}", q.min, q.avg));
+        out!("{name:24} {:>15}", format!("{:.3}/{:.3}", q.min, q.avg));
         for r in results {
-            print!(" {:>15}", format!("{:.3}/{:.3}", r.output.min, r.output.avg));
+            out!(" {:>15}", format!("{:.3}/{:.3}", r.output.min, r.output.avg));
         }
-        println!();
+        outln!();
     }
     Ok(())
 }
@@ -500,7 +521,7 @@ fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
     io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
     let q = mesh.quality();
-    println!(
+    outln!(
         "wrote {}: {} vertices, {} quads; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",
         output.display(),
         mesh.points().len(),
@@ -553,14 +574,14 @@ fn run_data_dir() -> Result<(), Fail> {
     }
     files.sort();
     let options = Options::default();
-    println!(
+    outln!(
         "quadopt: {} meshes in {}, method {}, boundary {}",
         files.len(),
         dir.display(),
         options.method.name(),
         options.boundary.name()
     );
-    println!(
+    outln!(
         "{:28} {:>7} {:>7}  {:>23}  {:>23}  {:>9} {:>6} {:>8}",
         "model", "#V", "#F", "input min/avg/max", "output min/avg/max", "inverted", "iters", "time (s)"
     );
@@ -574,7 +595,7 @@ fn run_data_dir() -> Result<(), Fail> {
         match result {
             Ok((data, r)) => {
                 let (i, o) = (&r.input, &r.output);
-                println!(
+                outln!(
                     "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
                     data.points.len(),
                     data.quads.len(),
@@ -592,7 +613,7 @@ fn run_data_dir() -> Result<(), Fail> {
             }
             Err(Fail::Usage(m) | Fail::Other(m)) => {
                 failed += 1;
-                println!("{name:28} error: {m}");
+                outln!("{name:28} error: {m}");
             }
         }
     }

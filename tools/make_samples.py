@@ -1,0 +1,606 @@
+#!/usr/bin/env python3
+"""Sample meshes for quadopt (data/*.vtk), made reproducibly.
+
+Usage:  pip install -r tools/requirements.txt      # gmsh==4.15.2 (pinned: the mesher decides the meshes)
+        python3 tools/make_samples.py               # writes data/*.vtk, data/README.md, prints the table
+        python3 tools/make_samples.py --check       # regenerates in memory, exit 1 if data/ differs
+
+Each mesh imitates one of the models of Akram, Si and Chen's Table 1 (plates with circular and
+square holes, irregular patches with notches, a maze-like wheel): the domain is built with gmsh's
+OpenCASCADE kernel and meshed with quad-dominant recombination of an unstructured triangulation
+(Frontal-Delaunay for quads, Mesh.Algorithm = 8, with Blossom recombination, the boundary given
+an even number of edges; if a triangle is left, Frontal-Delaunay, Mesh.Algorithm = 6; failing
+that, twice the size with every element split into quads, Mesh.SubdivisionAlgorithm = 1). Such
+meshes are valid but mediocre (minimum scaled Jacobian 0.1 to 0.7, the lowest where a quad has
+three vertices on a sharp boundary), so to reach the paper's poor inputs the vertices are then
+perturbed with a fixed seed (every move is halved until no quad of the vertex's star falls below
+the lowest defect target + 0.05, so inverted quads come from the defects only):
+
+1. every interior vertex moves by a random vector in a disc of radius `jitter` times its shortest
+   incident edge; boundary vertices in the middle of a straight boundary segment optionally move
+   ALONG that segment (by at most `slide` times the shorter of their two boundary edges), so they
+   stay on the true boundary (at most one of two boundary neighbours moves); vertices on curves
+   and corners never move;
+2. "defects": a few interior vertices, each in a star untouched by the previous defects, are moved
+   along a random direction just far enough that the worst quad of their star reaches a chosen
+   scaled Jacobian (bisection on the distance), so each mesh's input minimum is the number set
+   below (0.55 ... -0.55, as in Table 1), with a handful of inverted quads where it is negative.
+
+Connectivity is never changed: the meshes stay all-quad and manifold, and since only interior
+vertices (and tangential moves along straight segments) were perturbed, a valid configuration with
+the same boundary exists. Output: legacy VTK ASCII UNSTRUCTURED_GRID, cell type 9, coordinates with
+repr() (round-trip precision), z = 0, quads counter-clockwise; two meshes carry a point-data int
+array `fixed` marking their outer boundary. Everything is deterministic: gmsh runs single-threaded
+with fixed options, the perturbations use random.Random(seed), nothing depends on time or dict
+order. The quality printed is the signed 2D scaled Jacobian (quadopt's definition): per quad the
+minimum over its corners of cross(e_next/|e_next|, e_prev/|e_prev|).
+"""
+
+import argparse
+import math
+import os
+import random
+import sys
+
+GMSH_VERSION = "4.15.2"
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(ROOT, "data")
+
+
+# --------------------------------------------------------------------------------------------
+# Geometry (gmsh OpenCASCADE)
+# --------------------------------------------------------------------------------------------
+
+
+def plate(occ, w, h, disks=(), squares=()):
+    """A w x h rectangle minus circular holes (x, y, r) and square holes (x, y, side, angle_deg)."""
+    outer = occ.addRectangle(0, 0, 0, w, h)
+    tools = []
+    for x, y, r in disks:
+        tools.append((2, occ.addDisk(x, y, 0, r, r)))
+    for x, y, s, a in squares:
+        t = occ.addRectangle(x - s / 2, y - s / 2, 0, s, s)
+        if a:
+            occ.rotate([(2, t)], x, y, 0, 0, 0, 1, math.radians(a))
+        tools.append((2, t))
+    if tools:
+        occ.cut([(2, outer)], tools)
+
+
+def blob(occ, center, radii, notches=(), holes=()):
+    """A closed B-spline curve through points at the given radii (equally spaced angles) minus
+    polygonal notches (lists of (x, y)) and circular holes (x, y, r)."""
+    cx, cy = center
+    n = len(radii)
+    pts = []
+    for i, r in enumerate(radii):
+        t = 2 * math.pi * i / n
+        pts.append(occ.addPoint(cx + r * math.cos(t), cy + r * math.sin(t), 0))
+    curve = occ.addBSpline(pts + [pts[0]])
+    loop = occ.addCurveLoop([curve])
+    surf = occ.addPlaneSurface([loop])
+    tools = []
+    for poly in notches:
+        p = [occ.addPoint(x, y, 0) for x, y in poly]
+        lines = [occ.addLine(p[i], p[(i + 1) % len(p)]) for i in range(len(p))]
+        tools.append((2, occ.addPlaneSurface([occ.addCurveLoop(lines)])))
+    for x, y, r in holes:
+        tools.append((2, occ.addDisk(x, y, 0, r, r)))
+    if tools:
+        occ.cut([(2, surf)], tools)
+
+
+def sector(occ, r_in, r_out, a0, a1):
+    """The annular sector r_in <= r <= r_out, a0 <= angle <= a1 (radians), as a surface."""
+    ring = occ.cut([(2, occ.addDisk(0, 0, 0, r_out, r_out))], [(2, occ.addDisk(0, 0, 0, r_in, r_in))])[0]
+    # Keep the part inside the wedge: cut away its complement (a big polygon).
+    big = 4 * r_out
+    steps = 16
+    span = 2 * math.pi - (a1 - a0)
+    poly = [(0.0, 0.0)] + [
+        (big * math.cos(a1 + span * k / steps), big * math.sin(a1 + span * k / steps)) for k in range(steps + 1)
+    ]
+    p = [occ.addPoint(x, y, 0) for x, y in poly]
+    lines = [occ.addLine(p[i], p[(i + 1) % len(p)]) for i in range(len(p))]
+    wedge = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    return occ.cut(ring, [(2, wedge)])[0]
+
+
+def mazewheel(occ):
+    """A maze-like wheel: a disc with a central hole, three concentric ring walls with gaps, and
+    radial walls sticking out of the rings into the corridors (dead ends)."""
+    r_hole, r_out, t = 1.0, 5.0, 0.24
+    body = occ.cut([(2, occ.addDisk(0, 0, 0, r_out, r_out))], [(2, occ.addDisk(0, 0, 0, r_hole, r_hole))])[0]
+    walls = []
+    # Ring walls at radius r, each with gaps of angular width g centred at the listed angles.
+    rings = [(2.0, [30, 210]), (3.0, [120, 300]), (4.0, [75, 255])]
+    g = math.radians(26)
+    for r, gaps in rings:
+        a = sorted(math.radians(x) for x in gaps)
+        for k in range(len(a)):
+            a0 = a[k] + g / 2
+            a1 = a[(k + 1) % len(a)] - g / 2 + (2 * math.pi if k == len(a) - 1 else 0)
+            walls += sector(occ, r - t / 2, r + t / 2, a0, a1)
+    # Radial walls: from a ring wall outward (or inward) part of the way across the corridor.
+    radial = [(2.0, 3.0, 100), (2.0, 1.0, 300), (3.0, 4.0, 200), (3.0, 2.0, 20), (4.0, 5.0, 160), (4.0, 3.0, 340)]
+    for r_from, r_to, deg in radial:
+        lo, hi = sorted((r_from, r_from + 0.62 * (r_to - r_from)))
+        rect = occ.addRectangle(lo, -t / 2, 0, hi - lo, t)
+        occ.rotate([(2, rect)], 0, 0, 0, 0, 0, 1, math.radians(deg))
+        walls.append((2, rect))
+    occ.cut(body, walls)
+
+
+# --------------------------------------------------------------------------------------------
+# Meshing
+# --------------------------------------------------------------------------------------------
+
+
+def gmsh_quads(build, size, algorithm, subdivide=False):
+    """Meshes the geometry made by build(occ) with target size `size` and 2D algorithm
+    `algorithm`, recombining with Blossom; returns (points, quads) with only the nodes used by
+    quads, renumbered in gmsh's node order, quads counter-clockwise. An all-quad mesh needs an
+    even number of boundary edges: when the 1D mesh has an odd number, the longest curve gets
+    one edge more. With `subdivide`, every element is split into quads (all-quad, four times as
+    many). Returns None when triangles remain (only possible without `subdivide`)."""
+    import gmsh
+
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.model.add("sample")
+        occ = gmsh.model.occ
+        build(occ)
+        occ.removeAllDuplicates()
+        occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
+        gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+        gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)
+        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 1 if subdivide else 0)
+        gmsh.option.setNumber("Mesh.Smoothing", 1)
+        gmsh.option.setNumber("Mesh.RandomSeed", 1)
+        gmsh.model.mesh.generate(1)
+        counts = {c: len(gmsh.model.mesh.getElements(1, c)[1][0]) for _, c in gmsh.model.getEntities(1)}
+        if sum(counts.values()) % 2:
+            longest = max(sorted(counts), key=lambda c: counts[c])
+            gmsh.model.mesh.setTransfiniteCurve(longest, counts[longest] + 2)
+            gmsh.model.mesh.clear()
+            gmsh.model.mesh.generate(1)
+        gmsh.model.mesh.generate(2)
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        coord = {int(t): (float(xyz[3 * i]), float(xyz[3 * i + 1])) for i, t in enumerate(tags)}
+        types, _, nodes = gmsh.model.mesh.getElements(2)
+        quads = []
+        for ty, nd in zip(types, nodes):
+            if ty != 3:
+                return None
+            nd = [int(x) for x in nd]
+            quads += [nd[4 * i : 4 * i + 4] for i in range(len(nd) // 4)]
+    finally:
+        gmsh.finalize()
+    used = sorted({v for q in quads for v in q})
+    index = {t: i for i, t in enumerate(used)}
+    points = [list(coord[t]) for t in used]
+    quads = [[index[v] for v in q] for q in quads]
+    for q in quads:
+        if signed_area(points, q) < 0:
+            q.reverse()
+    return points, quads
+
+
+def mesh_domain(build, size):
+    """Frontal-Delaunay for quads (Mesh.Algorithm = 8) with Blossom recombination; if that
+    leaves a triangle, Frontal-Delaunay (6); failing that, 6 at twice the size followed by
+    subdivision into quads."""
+    for algorithm in (8, 6):
+        r = gmsh_quads(build, size, algorithm)
+        if r is not None:
+            return r
+    return gmsh_quads(build, 2 * size, 6, subdivide=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Quality and topology
+# --------------------------------------------------------------------------------------------
+
+
+def signed_area(p, q):
+    a = 0.0
+    for i in range(4):
+        x0, y0 = p[q[i]]
+        x1, y1 = p[q[(i + 1) % 4]]
+        a += x0 * y1 - x1 * y0
+    return a / 2
+
+
+def scaled_jacobian(p, q):
+    """Signed 2D scaled Jacobian of a counter-clockwise quad (degenerate edge: 0)."""
+    m = math.inf
+    for i in range(4):
+        x, y = p[q[i]]
+        ax, ay = p[q[(i + 1) % 4]]
+        bx, by = p[q[(i + 3) % 4]]
+        e1 = (ax - x, ay - y)
+        e2 = (bx - x, by - y)
+        l1, l2 = math.hypot(*e1), math.hypot(*e2)
+        if l1 == 0 or l2 == 0:
+            return 0.0
+        m = min(m, (e1[0] * e2[1] - e1[1] * e2[0]) / (l1 * l2))
+    return m
+
+
+def stats(p, quads):
+    v = [scaled_jacobian(p, q) for q in quads]
+    return min(v), sum(v) / len(v), max(v), sum(1 for x in v if x <= 0)
+
+
+def topology(n, quads):
+    """Per vertex: incident quads; boundary edges as a map v -> list of boundary neighbours."""
+    vq = [[] for _ in range(n)]
+    edges = {}
+    for qi, q in enumerate(quads):
+        for i in range(4):
+            vq[q[i]].append(qi)
+            a, b = q[i], q[(i + 1) % 4]
+            edges.setdefault((min(a, b), max(a, b)), []).append(qi)
+    bnd = {}
+    for (a, b), qs in edges.items():
+        if len(qs) > 2:
+            raise ValueError("non-manifold edge")
+        if len(qs) == 1:
+            bnd.setdefault(a, []).append(b)
+            bnd.setdefault(b, []).append(a)
+    for v, nb in bnd.items():
+        if len(nb) != 2:
+            raise ValueError(f"non-manifold boundary vertex {v}")
+    return vq, edges, bnd
+
+
+def boundary_loops(bnd):
+    """Boundary loops as vertex lists (any direction), largest (by vertex count) first."""
+    seen, loops = set(), []
+    for start in sorted(bnd):
+        if start in seen:
+            continue
+        lp, prev, v = [start], None, start
+        seen.add(start)
+        while True:
+            a, b = bnd[v]
+            nxt = a if a != prev else b
+            if nxt == start:
+                break
+            lp.append(nxt)
+            seen.add(nxt)
+            prev, v = v, nxt
+        loops.append(lp)
+    return loops
+
+
+def outer_loop(p, loops):
+    def extent(lp):
+        xs = [p[v][0] for v in lp]
+        ys = [p[v][1] for v in lp]
+        return (max(xs) - min(xs)) * (max(ys) - min(ys))
+
+    return max(loops, key=extent)
+
+
+# --------------------------------------------------------------------------------------------
+# Perturbation
+# --------------------------------------------------------------------------------------------
+
+
+def perturb(points, quads, seed, jitter, slide, defects):
+    """Perturbs a copy of `points` (see the module docs); returns the new points."""
+    rng = random.Random(seed)
+    n = len(points)
+    vq, edges, bnd = topology(n, quads)
+    nbrs = [set() for _ in range(n)]
+    for a, b in edges:
+        nbrs[a].add(b)
+        nbrs[b].add(a)
+    h = [min(math.dist(points[v], points[u]) for u in nbrs[v]) for v in range(n)]
+    p = [list(x) for x in points]
+
+    # 1. Global jitter; straight-segment boundary vertices slide tangentially, at most one of
+    # any two boundary neighbours, so each stays strictly between its (unmoved) neighbours.
+    # A move that would put a quad of the vertex's star below `floor` is halved until it does
+    # not (up to 4 times, then dropped), so inverted quads come from the defects only.
+    floor = min(defects) + 0.05
+
+    def try_move(v, dx, dy):
+        x0, y0 = p[v]
+        for _ in range(5):
+            p[v][0], p[v][1] = x0 + dx, y0 + dy
+            if min(scaled_jacobian(p, quads[q]) for q in vq[v]) >= floor:
+                return True
+            dx, dy = dx / 2, dy / 2
+        p[v][0], p[v][1] = x0, y0
+        return False
+
+    slid = set()
+    for v in range(n):
+        rad, ang, s = math.sqrt(rng.random()), rng.uniform(0, 2 * math.pi), rng.uniform(-1, 1)
+        if v not in bnd:
+            try_move(v, jitter * h[v] * rad * math.cos(ang), jitter * h[v] * rad * math.sin(ang))
+        elif slide > 0 and not slid.intersection(bnd[v]):
+            a, b = bnd[v]
+            pa, pb, pv = points[a], points[b], points[v]
+            e1 = (pa[0] - pv[0], pa[1] - pv[1])
+            e2 = (pb[0] - pv[0], pb[1] - pv[1])
+            l1, l2 = math.hypot(*e1), math.hypot(*e2)
+            cross = e1[0] * e2[1] - e1[1] * e2[0]
+            if abs(cross) <= 1e-12 * l1 * l2 and e1[0] * e2[0] + e1[1] * e2[1] < 0:
+                d = (pb[0] - pa[0], pb[1] - pa[1])
+                t = slide * min(l1, l2) * s
+                if d[0] == 0 or d[1] == 0:
+                    # Axis-parallel segment: only the varying coordinate changes (exactly).
+                    k = 0 if d[1] == 0 else 1
+                    dx, dy = (math.copysign(t, d[0]), 0.0) if k == 0 else (0.0, math.copysign(t, d[1]))
+                else:
+                    ld = math.hypot(*d)
+                    dx, dy = t * d[0] / ld, t * d[1] / ld
+                if try_move(v, dx, dy):
+                    slid.add(v)
+
+    # 2. Defects: each pushes the worst quad of one interior vertex's star to a target value.
+    touched = set()
+    order = [v for v in range(n) if v not in bnd]
+    rng.shuffle(order)
+    it = iter(order)
+    for target in defects:
+        for v in it:
+            star = set(vq[v])
+            if star & touched:
+                continue
+            if min(scaled_jacobian(p, quads[q]) for q in star) <= target + 0.05:
+                continue
+            ang = rng.uniform(0, 2 * math.pi)
+            dx, dy = math.cos(ang) * h[v], math.sin(ang) * h[v]
+            x0, y0 = p[v]
+
+            def star_min(t):
+                p[v][0], p[v][1] = x0 + t * dx, y0 + t * dy
+                return min(scaled_jacobian(p, quads[q]) for q in star)
+
+            t_hi = 0.9
+            if star_min(t_hi) > target:
+                p[v][0], p[v][1] = x0, y0
+                continue
+            lo, hi = 0.0, t_hi
+            for _ in range(60):
+                mid = (lo + hi) / 2
+                if star_min(mid) > target:
+                    lo = mid
+                else:
+                    hi = mid
+            star_min(hi)
+            # Every quad sharing a vertex with the star is off limits for later defects.
+            for q in star:
+                for u in quads[q]:
+                    touched.update(vq[u])
+            break
+    return p
+
+
+# --------------------------------------------------------------------------------------------
+# The samples
+# --------------------------------------------------------------------------------------------
+
+SAMPLES = [
+    # name, description, geometry, mesh size, seed, jitter, slide, defect targets, fixed outer
+    dict(
+        name="plate_1hole",
+        what="plate with one circular hole (paper: 1 hole)",
+        build=lambda occ: plate(occ, 4.0, 3.0, disks=[(2.0, 1.5, 0.7)]),
+        size=0.66, seed=1, jitter=0.1, slide=0.0, defects=[0.558],
+    ),
+    dict(
+        name="plate_2holes",
+        what="plate with two circular holes (paper: 2 holes)",
+        build=lambda occ: plate(occ, 5.0, 3.0, disks=[(1.35, 1.5, 0.65), (3.6, 1.45, 0.5)]),
+        size=0.66, seed=2, jitter=0.35, slide=0.0, defects=[0.015, 0.2],
+    ),
+    dict(
+        name="plate_2holes_2squares",
+        what="plate with two circular and two square holes (paper: 2 holes 2 squares)",
+        build=lambda occ: plate(
+            occ, 6.0, 4.0, disks=[(1.5, 2.8, 0.6), (4.4, 1.2, 0.55)], squares=[(4.5, 2.9, 0.9, 0), (1.6, 1.1, 0.8, 30)]
+        ),
+        size=0.62, seed=3, jitter=0.4, slide=0.3, defects=[-0.556, -0.2, 0.1],
+    ),
+    dict(
+        name="plate_3holes_1square",
+        what="plate with three circular holes and a square hole (paper: 3 holes 1 square)",
+        build=lambda occ: plate(
+            occ, 6.0, 4.0, disks=[(1.3, 1.2, 0.55), (3.0, 2.9, 0.6), (4.8, 1.2, 0.5)], squares=[(4.8, 3.0, 0.8, 0)]
+        ),
+        size=0.62, seed=4, jitter=0.25, slide=0.0, defects=[0.554],
+    ),
+    dict(
+        name="plate_3holes",
+        what="plate with three circular holes of different sizes, outer boundary fixed (`fixed` array)",
+        build=lambda occ: plate(occ, 7.0, 4.0, disks=[(1.5, 2.0, 0.9), (3.9, 1.3, 0.6), (5.5, 2.8, 0.45)]),
+        size=0.5, seed=5, jitter=0.3, slide=0.0, defects=[0.3],
+        fixed_outer=True,
+    ),
+    dict(
+        name="plate_6holes_2squares",
+        what="plate with six circular and two square holes (paper: 6 holes 2 squares)",
+        build=lambda occ: plate(
+            occ,
+            9.0,
+            5.0,
+            disks=[(1.2, 1.2, 0.5), (3.0, 3.8, 0.6), (4.6, 1.4, 0.55), (6.4, 3.6, 0.5), (7.8, 1.3, 0.45), (1.3, 3.8, 0.4)],
+            squares=[(3.0, 1.6, 0.8, 0), (6.3, 1.5, 0.9, 15)],
+        ),
+        size=0.53, seed=6, jitter=0.4, slide=0.3, defects=[-0.165, 0.05, 0.2],
+    ),
+    dict(
+        name="plate_8holes",
+        what="plate with eight circular holes (paper: 8 holes)",
+        build=lambda occ: plate(
+            occ,
+            10.0,
+            5.0,
+            disks=[(1.3, 1.3, 0.55), (1.3, 3.7, 0.5), (3.7, 2.5, 0.75), (6.0, 1.2, 0.5),
+                   (6.2, 3.8, 0.55), (8.5, 1.4, 0.6), (8.6, 3.8, 0.45), (4.9, 4.4, 0.3)],
+        ),
+        size=0.56, seed=8, jitter=0.4, slide=0.3, defects=[-0.513, -0.3, -0.1, 0.15],
+    ),
+    dict(
+        name="plate_10holes",
+        what="plate with ten circular holes, some close to each other (paper: 10 holes)",
+        build=lambda occ: plate(
+            occ,
+            10.0,
+            5.0,
+            disks=[(1.0, 1.0, 0.45), (1.1, 3.9, 0.5), (2.8, 2.5, 0.6), (4.4, 1.0, 0.4), (4.5, 3.9, 0.45),
+                   (6.0, 2.4, 0.55), (7.5, 1.0, 0.4), (7.6, 3.9, 0.5), (9.0, 2.5, 0.45), (4.35, 2.45, 0.3)],
+        ),
+        size=0.75, seed=10, jitter=0.45, slide=0.3, defects=[-0.098, 0.1],
+    ),
+    dict(
+        name="patch_notched",
+        what="irregular patch: curved outer boundary with three rectangular notches (paper: patch 5)",
+        build=lambda occ: blob(
+            occ,
+            (0.0, 0.0),
+            [2.0, 2.3, 1.9, 2.5, 2.2, 1.8, 2.4, 2.1, 1.9, 2.3],
+            notches=[
+                [(1.3, -0.25), (3.0, -0.25), (3.0, 0.25), (1.3, 0.25)],
+                [(-0.3, 1.5), (0.3, 1.5), (0.3, 3.0), (-0.3, 3.0)],
+                [(-3.0, -0.9), (-1.5, -0.9), (-1.5, -0.4), (-3.0, -0.4)],
+            ],
+        ),
+        size=0.7, seed=55, jitter=0.4, slide=0.3, defects=[-0.156, 0.1],
+    ),
+    dict(
+        name="patch_slotted",
+        what="irregular patch: wavy outer boundary, V notches, a slot and a small hole (paper: patch 7)",
+        build=lambda occ: blob(
+            occ,
+            (0.0, 0.0),
+            [2.6, 2.9, 2.4, 3.1, 2.7, 2.3, 2.9, 3.2, 2.5, 2.8, 2.4, 3.0],
+            notches=[
+                [(1.2, 0.0), (3.5, -0.6), (3.5, 0.6)],
+                [(-0.8, 1.6), (-1.6, 3.4), (0.0, 3.6)],
+                [(-3.5, -0.2), (-1.2, -0.2), (-1.2, 0.2), (-3.5, 0.2)],
+                [(0.3, -1.4), (0.9, -3.6), (-0.3, -3.6)],
+            ],
+            holes=[(0.6, 0.8, 0.35)],
+        ),
+        size=0.75, seed=77, jitter=0.4, slide=0.3, defects=[-0.529, -0.25, 0.05],
+    ),
+    dict(
+        name="mazewheel",
+        what="maze-like wheel: central hole, three ring walls with gaps, radial dead-end walls (paper: mazewheel 3)",
+        build=mazewheel,
+        size=0.48, seed=3, jitter=0.4, slide=0.3, defects=[-0.327, -0.15, 0.0, 0.2],
+    ),
+    dict(
+        name="plate_1hole_fine",
+        what="finer plate with one circular hole, outer boundary fixed (`fixed` array)",
+        build=lambda occ: plate(occ, 8.0, 6.0, disks=[(4.0, 3.0, 1.4)]),
+        size=0.15, seed=11, jitter=0.35, slide=0.0, defects=[0.25, 0.4],
+        fixed_outer=True,
+    ),
+]
+
+
+def make(sample):
+    """Generates one sample: (points, quads, fixed flags or None)."""
+    points, quads = mesh_domain(sample["build"], sample["size"])
+    n = len(points)
+    _, _, bnd = topology(n, quads)
+    assert all(signed_area(points, q) > 0 for q in quads), "mesher produced an invalid quad"
+    p = perturb(points, quads, sample["seed"], sample["jitter"], sample["slide"], sample["defects"])
+    fixed = None
+    if sample.get("fixed_outer"):
+        outer = set(outer_loop(points, boundary_loops(bnd)))
+        fixed = [1 if v in outer else 0 for v in range(n)]
+    return p, quads, fixed
+
+
+def vtk_text(name, points, quads, fixed):
+    out = ["# vtk DataFile Version 3.0", f"quadopt sample {name} (tools/make_samples.py)", "ASCII",
+           "DATASET UNSTRUCTURED_GRID", f"POINTS {len(points)} double"]
+    out += [f"{x!r} {y!r} 0.0" for x, y in points]
+    out.append(f"CELLS {len(quads)} {5 * len(quads)}")
+    out += ["4 " + " ".join(str(v) for v in q) for q in quads]
+    out.append(f"CELL_TYPES {len(quads)}")
+    out += ["9"] * len(quads)
+    if fixed is not None:
+        out += [f"POINT_DATA {len(points)}", "SCALARS fixed int 1", "LOOKUP_TABLE default"]
+        out += [" ".join(str(f) for f in fixed[i : i + 20]) for i in range(0, len(fixed), 20)]
+    return "\n".join(out) + "\n"
+
+
+README_HEAD = """# Sample meshes
+
+2D quad meshes with boundaries like the models of the paper's Table 1 (Akram, Si and Chen, 2021),
+with inputs as poor as the paper's: gmsh's quad-dominant recombination of an unstructured
+triangulation, then interior vertices (and vertices on straight boundary segments, along the
+segment only) perturbed with a fixed seed. Legacy VTK ASCII, `UNSTRUCTURED_GRID`, quads (cell
+type 9) counter-clockwise, z = 0, coordinates with round-trip precision. Quality: the signed 2D
+scaled Jacobian (quadopt's); inverted = quads with a value <= 0. Made by tools/make_samples.py,
+which also wrote this file; tests/samples.rs checks every method and boundary mode on all of them.
+
+Regenerate (deterministic; gmsh pinned in tools/requirements.txt):
+
+    pip install -r tools/requirements.txt
+    python3 tools/make_samples.py            # writes data/*.vtk and this README, prints the table
+    python3 tools/make_samples.py --check    # exit 1 if anything differs from the files here
+
+| file | what | #V | #F | input min | input avg | inverted |
+| --- | --- | ---: | ---: | ---: | ---: | ---: |
+"""
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--check", action="store_true", help="compare with the files in data/ instead of writing")
+    ap.add_argument("--only", help="generate only this sample")
+    args = ap.parse_args()
+    import gmsh
+
+    if gmsh.__version__ != GMSH_VERSION:
+        print(f"warning: gmsh {gmsh.__version__} found, the samples were made with {GMSH_VERSION}", file=sys.stderr)
+    os.makedirs(DATA, exist_ok=True)
+    print(f"{'name':24} {'#V':>5} {'#F':>5} {'min':>9} {'avg':>9} {'max':>9} {'inverted':>8}")
+    differ = 0
+    readme = README_HEAD
+
+    def emit(path, text):
+        nonlocal differ
+        if args.check:
+            old = open(path).read() if os.path.exists(path) else None
+            if old != text:
+                print(f"  differs from {path}")
+                differ += 1
+        else:
+            with open(path, "w") as f:
+                f.write(text)
+
+    for s in SAMPLES:
+        if args.only and s["name"] != args.only:
+            continue
+        p, q, fixed = make(s)
+        lo, avg, hi, inv = stats(p, q)
+        print(f"{s['name']:24} {len(p):5} {len(q):5} {lo:9.4f} {avg:9.4f} {hi:9.4f} {inv:8}")
+        readme += f"| {s['name']}.vtk | {s['what']} | {len(p)} | {len(q)} | {lo:.4f} | {avg:.4f} | {inv} |\n"
+        emit(os.path.join(DATA, s["name"] + ".vtk"), vtk_text(s["name"], p, q, fixed))
+    if not args.only:
+        emit(os.path.join(DATA, "README.md"), readme)
+    if differ:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

@@ -132,4 +132,40 @@ mod tests {
         assert!(t.length() < points[0].length());
         assert!(e > 0.0);
     }
+
+    #[test]
+    fn weighted_update_matches_a_hand_computation_of_eqs_4_to_8() {
+        // Valence-4 star with an off-centre v. Each spoke lies inside its corner's angle, so
+        // Eq. 4 can be evaluated with arccosines exactly as printed: theta_i is half the
+        // difference of the angles between the spoke and the two polygon edges at P_i.
+        let ring_points =
+            [DVec2::new(1.0, 0.0), DVec2::new(0.1, 1.2), DVec2::new(-0.9, 0.1), DVec2::new(0.0, -1.0)];
+        let v = DVec2::new(0.2, 0.15);
+        let mut points = vec![v];
+        points.extend(ring_points);
+        let angle = |a: DVec2, b: DVec2| (a.dot(b) / (a.length() * b.length())).acos();
+        let n = 4;
+        let (mut thetas, mut cands) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            let p = ring_points[i];
+            let prev = ring_points[(i + n - 1) % n];
+            let next = ring_points[(i + 1) % n];
+            // Eq. 4: rotate towards the larger of the two angles by half their difference;
+            // counter-clockwise (positive) when the angle to the previous neighbour is larger.
+            let theta = 0.5 * (angle(v - p, prev - p) - angle(v - p, next - p));
+            thetas.push(theta);
+            // Eq. 5: rotation about P_i.
+            let (s, c) = theta.sin_cos();
+            let a = v - p;
+            cands.push(p + DVec2::new(c * a.x - s * a.y, s * a.x + c * a.y));
+        }
+        // Eq. 7 weights, normalized (Eq. 8 with lambda = 1).
+        let total: f64 = thetas.iter().map(|t| t.abs()).sum();
+        let w: Vec<f64> = thetas.iter().map(|t| 1.0 - t.abs() / total).collect();
+        let expected = (0..n).map(|i| w[i] * cands[i]).sum::<DVec2>() / w.iter().sum::<f64>();
+        let energy: f64 = thetas.iter().map(|t| 0.5 * t * t).sum();
+        let (got, e) = target(&points, 0, &[1, 2, 3, 4]);
+        assert!((got - expected).length() < 1e-14, "{got} vs {expected}");
+        assert!((e - energy).abs() < 1e-14, "{e} vs {energy}");
+    }
 }

@@ -703,4 +703,94 @@ mod tests {
             }
         }
     }
+
+    /// 2x2 grid whose centre (vertex 4) is pinned at (1.5, 1), every vertex fixed but the
+    /// bottom-middle one (vertex 1), which sits at (1, 0) between boundary neighbours 0 and 2.
+    fn one_free_boundary_vertex() -> QuadMesh {
+        let m = grid(2, 2);
+        let mut p = m.points().to_vec();
+        p[4] = DVec2::new(1.5, 1.0);
+        let fixed = (0..9).map(|v| v != 1).collect();
+        QuadMesh::new(p, m.quads().to_vec(), Some(fixed)).unwrap()
+    }
+
+    fn one_sweep(boundary: BoundaryMode) -> Options {
+        Options {
+            boundary,
+            max_iterations: 1,
+            guard: false,
+            untangle: false,
+            keep_best: false,
+            ..Options::default()
+        }
+    }
+
+    #[test]
+    fn slide_puts_the_boundary_vertex_on_the_bisector_in_one_sweep() {
+        // Approach 2: v - n1 must bisect the angle at n1 = (1.5, 1) between the boundary
+        // neighbours (0, 0) and (2, 0). By the angle bisector theorem the bisector meets the
+        // bottom edge at (0,0) + (2,0) |n1 - (0,0)| / (|n1 - (0,0)| + |n1 - (2,0)|).
+        let mut m = one_free_boundary_vertex();
+        optimize(&mut m, &one_sweep(BoundaryMode::Slide)).unwrap();
+        let (l0, l2) = (DVec2::new(1.5, 1.0).length(), DVec2::new(-0.5, 1.0).length());
+        let expected = DVec2::new(2.0 * l0 / (l0 + l2), 0.0);
+        assert!((m.points()[1] - expected).length() < 1e-12, "{} vs {expected}", m.points()[1]);
+        assert_eq!(m.points()[1].y, 0.0);
+    }
+
+    #[test]
+    fn snap_rotates_onto_the_bisector_then_projects_onto_the_original_boundary() {
+        // Approach 1: rotate v about n1 onto the bisector (keeping |v - n1|), then project
+        // onto the bottom edge: the x of the rotated point.
+        let mut m = one_free_boundary_vertex();
+        optimize(&mut m, &one_sweep(BoundaryMode::Snap)).unwrap();
+        let n1 = DVec2::new(1.5, 1.0);
+        let bisector = ((DVec2::ZERO - n1).normalize() + (DVec2::new(2.0, 0.0) - n1).normalize()).normalize();
+        let rotated = n1 + (DVec2::new(1.0, 0.0) - n1).length() * bisector;
+        let expected = DVec2::new(rotated.x, 0.0);
+        assert!((m.points()[1] - expected).length() < 1e-12, "{} vs {expected}", m.points()[1]);
+    }
+
+    #[test]
+    fn fixed_boundary_and_corners_never_move() {
+        let mut m = one_free_boundary_vertex();
+        let before = m.points().to_vec();
+        optimize(&mut m, &one_sweep(BoundaryMode::Fixed)).unwrap();
+        assert_eq!(m.points(), &before[..]);
+        // Corner rule: turning the bottom edge by more than the feature angle pins vertex 1.
+        let mut p = before.clone();
+        p[1] = DVec2::new(1.0, 0.9); // 2 * atan(0.9) = 84 degrees of turn > 45
+        let mut bent = QuadMesh::new(p.clone(), m.quads().to_vec(), Some(m.fixed().to_vec())).unwrap();
+        optimize(&mut bent, &one_sweep(BoundaryMode::Slide)).unwrap();
+        assert_eq!(bent.points()[1], p[1]);
+    }
+
+    #[test]
+    fn absolute_tau_depends_on_size_and_per_vertex_tau_does_not() {
+        // The same jitter pattern on a small and a large grid: the per-vertex criterion stops
+        // both at a similar sweep; the absolute one needs more sweeps on the larger mesh.
+        let jitter = |n: u32| {
+            let m = grid(n, n);
+            let p: Vec<DVec2> = m
+                .points()
+                .iter()
+                .map(|q| {
+                    let inside = q.x > 0.0 && q.y > 0.0 && q.x < n as f64 && q.y < n as f64;
+                    if inside {
+                        *q + 0.2 * DVec2::new((q.x * 7.0 + q.y).sin(), (q.y * 5.0 - q.x).cos())
+                    } else {
+                        *q
+                    }
+                })
+                .collect();
+            QuadMesh::new(p, m.quads().to_vec(), None).unwrap()
+        };
+        let run = |n: u32, options: &Options| optimize(&mut jitter(n), options).unwrap().iterations;
+        let relative = Options { boundary: BoundaryMode::Fixed, tau: 1e-6, ..Options::default() };
+        let absolute = Options { tau_absolute: true, tau: 1e-4, ..relative.clone() };
+        let (rs, rl) = (run(8, &relative), run(32, &relative));
+        let (a_s, a_l) = (run(8, &absolute), run(32, &absolute));
+        assert!(a_l > a_s, "absolute tau: {a_s} sweeps on 8x8, {a_l} on 32x32");
+        assert!((rl as f64) < 1.5 * rs as f64 + 5.0, "per-vertex tau: {rs} sweeps on 8x8, {rl} on 32x32");
+    }
 }

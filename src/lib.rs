@@ -30,6 +30,9 @@
 
 pub mod error;
 pub mod features;
+/// The C ABI (`include/quadopt.h`): the only module with `unsafe` code.
+#[allow(unsafe_code)]
+pub mod ffi;
 pub mod io;
 pub mod mesh;
 pub mod quality;

@@ -54,16 +54,18 @@ pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
     let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
     let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
     let short = DEGENERATE_EDGE_RELATIVE * (hi - lo).length();
-    let len = [0, 1, 2, 3].map(|i| (q[(i + 1) % 4] - q[i]).length());
+    // Edge i runs from corner i to corner i + 1.
+    let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
+    let len = [e[0].length(), e[1].length(), e[2].length(), e[3].length()];
     if len.iter().any(|&l| l == 0.0 || l < short) {
         return 0.0;
     }
     let mut min = f64::INFINITY;
     for i in 0..4 {
-        // Edges out of corner i: to the next corner (len[i]) and to the previous (len[i - 1]).
-        let e1 = q[(i + 1) % 4] - q[i];
-        let e2 = q[(i + 3) % 4] - q[i];
-        min = min.min(e1.perp_dot(e2) / (len[i] * len[(i + 3) % 4]));
+        // Edges out of corner i: e[i] to the next corner and -e[i - 1] to the previous one;
+        // cross(e[i], -e[i - 1]) = cross(e[i - 1], e[i]), bit for bit.
+        let j = (i + 3) % 4;
+        min = min.min(e[j].perp_dot(e[i]) / (len[i] * len[j]));
     }
     min
 }

@@ -6,7 +6,7 @@
 //! moves towards the bisector of the opposite corner. Candidates are averaged with equal
 //! weights.
 
-use super::embedded_polygon::{bisecting_rotation, rotate_about};
+use super::embedded_polygon::bisect;
 use glam::DVec2;
 
 /// Angle-based target of interior vertex `v` with alternating edge/diagonal ring `full_ring`.
@@ -18,8 +18,8 @@ pub fn target(points: &[DVec2], v: usize, full_ring: &[u32]) -> DVec2 {
         let corner = points[full_ring[i] as usize];
         let prev = points[full_ring[(i + n - 1) % n] as usize];
         let next = points[full_ring[(i + 1) % n] as usize];
-        if let Some(t) = bisecting_rotation(p, corner, prev, next) {
-            acc += rotate_about(p, corner, t);
+        if let Some((_, candidate)) = bisect(p, corner, prev, next) {
+            acc += candidate;
             count += 1;
         }
     }

@@ -18,7 +18,7 @@
 //! original polyline, so they stay on it up to roundoff.
 
 use super::BoundaryMode;
-use super::embedded_polygon::{bisecting_rotation, rotate_about};
+use super::embedded_polygon::{bisect, bisecting_rotation};
 use super::fidelity::chord_deviation;
 use crate::features::Features;
 use crate::topology::Topology;
@@ -243,7 +243,7 @@ pub fn update(
         return (p, s, 0.0);
     }
     let (n0, n1, n2) = (points[ring[0] as usize], points[ring[1] as usize], points[ring[2] as usize]);
-    let Some(theta) = bisecting_rotation(p, n1, n0, n2) else { return (p, s, 0.0) };
+    let Some((theta, rotated)) = bisect(p, n1, n0, n2) else { return (p, s, 0.0) };
     let energy = 0.5 * theta * theta;
 
     // Unwrapped arclength range between the boundary neighbours (previous slot .. next slot).
@@ -278,10 +278,7 @@ pub fn update(
             let f = |t: f64| bisecting_rotation(geometry.eval(l, t), n1, n0, n2).unwrap_or(0.0);
             bracketed_root(f, s_prev, s_next, 1e-13 * len)
         }
-        BoundaryMode::Snap => {
-            let rotated = rotate_about(p, n1, theta);
-            geometry.project(l, rotated, lo, hi)
-        }
+        BoundaryMode::Snap => geometry.project(l, rotated, lo, hi),
     };
     let target = target.clamp(lo, hi);
     let mut s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi);

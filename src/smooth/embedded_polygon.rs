@@ -14,11 +14,42 @@
 //!   mesh in one sweep. The lambda step is applied by the caller.
 
 use glam::DVec2;
-use std::f64::consts::TAU;
+
+/// Unit bisector of the counter-clockwise sweep from direction `c` to direction `b` (both
+/// non-zero), without trigonometry. Half the sum of the unit vectors when they make an acute
+/// angle (negated when the sweep is reflex, i.e. nearly a full turn), else the clockwise
+/// perpendicular of their difference: each form is used where it is well conditioned (its
+/// length is at least sqrt(2) before normalizing).
+#[inline]
+fn bisector(c: DVec2, b: DVec2) -> DVec2 {
+    let (c, b) = (c / c.length(), b / b.length());
+    if c.dot(b) > 0.0 {
+        let sum = c + b;
+        let sum = sum / sum.length();
+        if c.perp_dot(b) >= 0.0 { sum } else { -sum }
+    } else {
+        let d = b - c;
+        DVec2::new(d.y, -d.x) / d.length()
+    }
+}
 
 /// Signed rotation about `p` that turns `v - p` onto the bisector of the interior angle at
-/// `p`, which is the counter-clockwise sweep from `next - p` to `prev - p` (Eq. 4). `None`
+/// `p`, which is the counter-clockwise sweep from `next - p` to `prev - p` (Eq. 4), and `v`
+/// rotated by it (Eq. 5): the point on that bisector at distance |v - p| from `p`. `None`
 /// when an edge is degenerate.
+#[inline]
+pub fn bisect(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<(f64, DVec2)> {
+    let a = v - p;
+    let b = prev - p;
+    let c = next - p;
+    if a == DVec2::ZERO || b == DVec2::ZERO || c == DVec2::ZERO {
+        return None;
+    }
+    let bis = bisector(c, b);
+    Some((a.perp_dot(bis).atan2(a.dot(bis)), p + a.length() * bis))
+}
+
+/// The rotation of [`bisect`] alone.
 #[inline]
 pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
     let a = v - p;
@@ -27,12 +58,8 @@ pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Optio
     if a == DVec2::ZERO || b == DVec2::ZERO || c == DVec2::ZERO {
         return None;
     }
-    let mut sweep = c.perp_dot(b).atan2(c.dot(b));
-    if sweep < 0.0 {
-        sweep += TAU;
-    }
-    let bisector = DVec2::from_angle(0.5 * sweep).rotate(c);
-    Some(a.perp_dot(bisector).atan2(a.dot(bisector)))
+    let bis = bisector(c, b);
+    Some(a.perp_dot(bis).atan2(a.dot(bis)))
 }
 
 /// Eq. 5: `v` rotated about `p` by `theta`.
@@ -58,9 +85,9 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
         let corner = points[ring[i] as usize];
         let prev = points[ring[(i + n - 1) % n] as usize];
         let next = points[ring[(i + 1) % n] as usize];
-        if let Some(t) = bisecting_rotation(p, corner, prev, next) {
+        if let Some((t, candidate)) = bisect(p, corner, prev, next) {
             theta[i] = t;
-            cand[i] = rotate_about(p, corner, t);
+            cand[i] = candidate;
             sum_abs += t.abs();
             energy += 0.5 * t * t;
         }
@@ -89,7 +116,7 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::FRAC_PI_4;
+    use std::f64::consts::{FRAC_PI_4, TAU};
 
     #[test]
     fn rotation_bisects_the_interior_angle() {
@@ -167,5 +194,22 @@ mod tests {
         let (got, e) = target(&points, 0, &[1, 2, 3, 4]);
         assert!((got - expected).length() < 1e-14, "{got} vs {expected}");
         assert!((e - energy).abs() < 1e-14, "{e} vs {energy}");
+    }
+
+    #[test]
+    fn bisector_agrees_with_the_trigonometric_form_on_every_angle() {
+        // The counter-clockwise sweep from c to b, halved, by atan2: what Eq. 4 describes.
+        for k in 0..3600 {
+            let sweep = (k as f64 + 0.5) * TAU / 3600.0;
+            let c = DVec2::from_angle(0.37 * k as f64) * (1.0 + (k % 7) as f64);
+            let b = DVec2::from_angle(sweep).rotate(c) * 0.5;
+            let expected = DVec2::from_angle(0.5 * sweep).rotate(c).normalize();
+            assert!((bisector(c, b) - expected).length() < 1e-12, "sweep {sweep}");
+            let v = c.rotate(DVec2::from_angle(0.3)) + DVec2::new(0.1, -0.2);
+            let (t, cand) = bisect(v, DVec2::ZERO, b, c).unwrap();
+            assert!((cand - rotate_about(v, DVec2::ZERO, t)).length() < 1e-12 * v.length());
+        }
+        // A straight angle turns c by a quarter turn counter-clockwise.
+        assert!((bisector(DVec2::X, -DVec2::X) - DVec2::Y).length() < 1e-15);
     }
 }

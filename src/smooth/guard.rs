@@ -49,6 +49,11 @@ pub fn guarded_position(
     if target == p {
         return p;
     }
+    // A target at or above the floor is acceptable whatever the current value (the bar is
+    // min(current, floor)), so the current star is only evaluated when needed.
+    if star_min(points, quads, topo, v, target) >= floor {
+        return target;
+    }
     let current = star_min(points, quads, topo, v, p);
     if current <= 0.0 {
         return target;

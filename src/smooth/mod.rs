@@ -652,9 +652,11 @@ impl RunContext<'_> {
         }
         if self.features.is_boundary(v) {
             // A boundary vertex must stay on the polyline: accept its move or stay.
-            let ok = guard::star_min(points, self.quads, self.topo, v, target)
-                >= guard::star_min(points, self.quads, self.topo, v, points[v]).min(self.floor)
-                || guard::star_min(points, self.quads, self.topo, v, points[v]) <= 0.0;
+            let at_target = guard::star_min(points, self.quads, self.topo, v, target);
+            let ok = at_target >= self.floor || {
+                let current = guard::star_min(points, self.quads, self.topo, v, points[v]);
+                at_target >= current || current <= 0.0
+            };
             let (position, param) =
                 if ok { (target, param) } else { (points[v], current_param(self.geometry, params, v)) };
             return Update { vertex: v as u32, position, param, energy };

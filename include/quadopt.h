@@ -429,16 +429,17 @@ const char *quadopt_last_error(void);
 void quadopt_options_default(struct QuadoptOptions *out);
 
 /**
- * Fills the first `struct_size` bytes of `*out` with the default options, for a caller whose
- * `QuadoptOptions` may be smaller or larger than this library's (a program built against
- * another version of this header): pass `sizeof(QuadoptOptions)` as the caller sees it.
- * Writes `min(struct_size, sizeof of this library's struct)` bytes, sets `struct_size` to that
- * number and leaves any further bytes of a larger struct untouched, so it never writes past
- * the caller's struct the way `quadopt_options_default` could across versions.
+ * Fills the first `struct_size` bytes of `*out` with the default options: pass
+ * `sizeof(QuadoptOptions)` as your header declares it, which may differ from this library's
+ * when the program was built against another version of the header. Writes
+ * `min(struct_size, sizeof of this library's struct)` bytes, sets `struct_size` to that number
+ * and leaves any further bytes of a larger (newer) struct untouched, so it never writes past
+ * the caller's struct the way `quadopt_options_default` and `quadopt_options_defaults` could
+ * across versions. The recommended way to initialize options.
  *
  * Returns `QUADOPT_STATUS_NULL_POINTER` for a NULL `out`, and `QUADOPT_STATUS_INVALID_ARGUMENT`
- * for a misaligned one or a `struct_size` smaller than this version's struct (nothing is
- * written then).
+ * for a misaligned one or a `struct_size` smaller than the first version of the struct
+ * (nothing is written then).
  *
  * # Safety
  * `out` must be NULL or point to `struct_size` writable, aligned bytes.
@@ -447,13 +448,16 @@ enum QuadoptStatus quadopt_options_init(struct QuadoptOptions *out,
                                         size_t struct_size);
 
 /**
- * The default options by value, with `struct_size` set (convenient from C++).
+ * The default options by value, with `struct_size` set. Returning a struct by value is only
+ * safe when the program was built against this version of the header; prefer
+ * `quadopt_options_init`.
  */
 struct QuadoptOptions quadopt_options_defaults(void);
 
 /**
  * A zeroed report with `struct_size = sizeof(QuadoptReport)`, ready to pass to an optimize
- * function.
+ * function. By value, so only safe with this version of the header; across versions zero
+ * your own `QuadoptReport` and set its `struct_size = sizeof(QuadoptReport)`.
  */
 struct QuadoptReport quadopt_report_init(void);
 

@@ -333,6 +333,14 @@ fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
 // ---------------------------------------------------------------------------------------
 // Checked access to the caller's memory.
 
+/// Size of the first published `QuadoptOptions`: callers' structs must be at least this large.
+/// Fields added later are appended and read only when the caller's `struct_size` covers them.
+/// This is the first version; when a field is appended, keep the old struct as
+/// `QuadoptOptionsV1` and take its size here.
+const OPTIONS_V1_SIZE: usize = size_of::<QuadoptOptions>();
+/// Size of the first published `QuadoptReport` (the same growth rule).
+const REPORT_V1_SIZE: usize = size_of::<QuadoptReport>();
+
 /// Checks the caller's array `ptr[0..len]` without touching it: NULL is accepted only with
 /// `len == 0`, the pointer must be aligned and the byte size must fit in `isize::MAX` (what
 /// `std::slice::from_raw_parts` requires).
@@ -502,17 +510,21 @@ unsafe fn read_options(options: *const QuadoptOptions) -> Result<QuadoptOptions,
     // SAFETY: non-null and aligned; every version of the struct starts with `struct_size`.
     let declared = unsafe { options.cast::<u32>().read() } as usize;
     let ours = size_of::<QuadoptOptions>();
-    if declared < ours {
+    if declared < OPTIONS_V1_SIZE {
         return Err(FfiError::new(
             QuadoptStatus::InvalidArgument,
-            format!("options->struct_size is {declared}, smaller than sizeof(QuadoptOptions) = {ours}"),
+            format!(
+                "options->struct_size is {declared}, smaller than the first QuadoptOptions ({OPTIONS_V1_SIZE} bytes)"
+            ),
         ));
     }
-    // SAFETY: the caller guarantees `declared >= ours` readable bytes at `options`, and `out`
-    // is a distinct local of `ours` bytes. Every field is an integer, float, raw pointer or
-    // nullable function pointer, for which any initialized bit pattern is valid.
+    // Fields a caller's older, shorter struct lacks keep their defaults.
+    let bytes = declared.min(ours);
+    // SAFETY: the caller guarantees `declared >= bytes` readable bytes at `options`, and `out`
+    // is a distinct local of `ours >= bytes` bytes. Every field is an integer, float, raw
+    // pointer or nullable function pointer, for which any initialized bit pattern is valid.
     unsafe {
-        std::ptr::copy_nonoverlapping(options.cast::<u8>(), (&raw mut out).cast::<u8>(), ours);
+        std::ptr::copy_nonoverlapping(options.cast::<u8>(), (&raw mut out).cast::<u8>(), bytes);
     }
     Ok(out)
 }
@@ -568,10 +580,12 @@ unsafe fn report_size(report: *const QuadoptReport) -> Result<Option<usize>, Ffi
     // SAFETY: non-null and aligned; every version of the struct starts with `struct_size`.
     let declared = unsafe { report.cast::<u32>().read() } as usize;
     let ours = size_of::<QuadoptReport>();
-    if declared < ours {
+    if declared < REPORT_V1_SIZE {
         return Err(FfiError::new(
             QuadoptStatus::InvalidArgument,
-            format!("report->struct_size is {declared}, smaller than sizeof(QuadoptReport) = {ours}"),
+            format!(
+                "report->struct_size is {declared}, smaller than the first QuadoptReport ({REPORT_V1_SIZE} bytes)"
+            ),
         ));
     }
     Ok(Some(declared.min(ours)))
@@ -751,16 +765,17 @@ pub unsafe extern "C" fn quadopt_options_default(out: *mut QuadoptOptions) {
     })
 }
 
-/// Fills the first `struct_size` bytes of `*out` with the default options, for a caller whose
-/// `QuadoptOptions` may be smaller or larger than this library's (a program built against
-/// another version of this header): pass `sizeof(QuadoptOptions)` as the caller sees it.
-/// Writes `min(struct_size, sizeof of this library's struct)` bytes, sets `struct_size` to that
-/// number and leaves any further bytes of a larger struct untouched, so it never writes past
-/// the caller's struct the way `quadopt_options_default` could across versions.
+/// Fills the first `struct_size` bytes of `*out` with the default options: pass
+/// `sizeof(QuadoptOptions)` as your header declares it, which may differ from this library's
+/// when the program was built against another version of the header. Writes
+/// `min(struct_size, sizeof of this library's struct)` bytes, sets `struct_size` to that number
+/// and leaves any further bytes of a larger (newer) struct untouched, so it never writes past
+/// the caller's struct the way `quadopt_options_default` and `quadopt_options_defaults` could
+/// across versions. The recommended way to initialize options.
 ///
 /// Returns `QUADOPT_STATUS_NULL_POINTER` for a NULL `out`, and `QUADOPT_STATUS_INVALID_ARGUMENT`
-/// for a misaligned one or a `struct_size` smaller than this version's struct (nothing is
-/// written then).
+/// for a misaligned one or a `struct_size` smaller than the first version of the struct
+/// (nothing is written then).
 ///
 /// # Safety
 /// `out` must be NULL or point to `struct_size` writable, aligned bytes.
@@ -768,22 +783,27 @@ pub unsafe extern "C" fn quadopt_options_default(out: *mut QuadoptOptions) {
 pub unsafe extern "C" fn quadopt_options_init(out: *mut QuadoptOptions, struct_size: usize) -> QuadoptStatus {
     boundary("quadopt_options_init", || {
         require_non_null(out.cast_const(), "out")?;
-        let ours = size_of::<QuadoptOptions>();
-        if struct_size < ours {
+        if struct_size < OPTIONS_V1_SIZE {
             return Err(FfiError::new(
                 QuadoptStatus::InvalidArgument,
-                format!("struct_size is {struct_size}, smaller than sizeof(QuadoptOptions) = {ours}"),
+                format!(
+                    "struct_size is {struct_size}, smaller than the first QuadoptOptions ({OPTIONS_V1_SIZE} bytes)"
+                ),
             ));
         }
-        let value = default_options();
-        // SAFETY: `out` is non-null and aligned (checked) and holds `struct_size >= ours`
-        // writable bytes by the caller's contract; `value` is a local of `ours` bytes.
-        unsafe { std::ptr::copy_nonoverlapping((&raw const value).cast::<u8>(), out.cast::<u8>(), ours) };
+        let mut value = default_options();
+        let bytes = struct_size.min(size_of::<QuadoptOptions>());
+        value.struct_size = bytes as u32;
+        // SAFETY: `out` is non-null and aligned (checked) and holds `struct_size >= bytes`
+        // writable bytes by the caller's contract; `value` is a local of at least `bytes` bytes.
+        unsafe { std::ptr::copy_nonoverlapping((&raw const value).cast::<u8>(), out.cast::<u8>(), bytes) };
         Ok(())
     })
 }
 
-/// The default options by value, with `struct_size` set (convenient from C++).
+/// The default options by value, with `struct_size` set. Returning a struct by value is only
+/// safe when the program was built against this version of the header; prefer
+/// `quadopt_options_init`.
 #[unsafe(no_mangle)]
 pub extern "C" fn quadopt_options_defaults() -> QuadoptOptions {
     // A panic cannot happen here; the fallback keeps the boundary rule uniform.
@@ -791,7 +811,8 @@ pub extern "C" fn quadopt_options_defaults() -> QuadoptOptions {
 }
 
 /// A zeroed report with `struct_size = sizeof(QuadoptReport)`, ready to pass to an optimize
-/// function.
+/// function. By value, so only safe with this version of the header; across versions zero
+/// your own `QuadoptReport` and set its `struct_size = sizeof(QuadoptReport)`.
 #[unsafe(no_mangle)]
 pub extern "C" fn quadopt_report_init() -> QuadoptReport {
     let init =

@@ -1,0 +1,521 @@
+/* Pure C99 test of include/quadopt.h: defaults, hand-computed quality values, the optimizer on
+ * a small patch, the reusable handle, growable structs, and every error status that bad input
+ * can produce, each checked to leave the caller's buffers untouched.
+ *
+ * Built with -std=c99 -Wall -Wextra -Werror -pedantic (see CMakeLists.txt); linked once
+ * against the shared and once against the static library. Prints "N passed, N failed". */
+#include "quadopt.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int passed = 0;
+static int failed = 0;
+
+#define CHECK(cond)                                                          \
+  do {                                                                       \
+    if (cond) {                                                              \
+      ++passed;                                                              \
+    } else {                                                                 \
+      ++failed;                                                              \
+      fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); \
+    }                                                                        \
+  } while (0)
+
+#define CHECK_STATUS(call, expected)                                                           \
+  do {                                                                                         \
+    QuadoptStatus got_ = (call);                                                               \
+    if (got_ == (expected)) {                                                                  \
+      ++passed;                                                                                \
+    } else {                                                                                   \
+      ++failed;                                                                                \
+      fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d (%s); last error: %s\n",       \
+              __FILE__, __LINE__, #call, (int)got_, quadopt_status_string((int)got_),         \
+              (int)(expected), quadopt_status_string((int)(expected)), quadopt_last_error()); \
+    }                                                                                          \
+  } while (0)
+
+/* A 3x3-vertex patch of four unit quads (counter-clockwise), vertex 4 in the middle. */
+#define GRID_N 9
+#define GRID_Q 4
+static const uint32_t grid_quads[4 * GRID_Q] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6, 4, 5, 8, 7};
+
+static void grid_coords(double *xy, double cx, double cy) {
+  int i, j;
+  for (j = 0; j < 3; ++j) {
+    for (i = 0; i < 3; ++i) {
+      xy[2 * (3 * j + i)] = (double)i;
+      xy[2 * (3 * j + i) + 1] = (double)j;
+    }
+  }
+  xy[8] = cx;
+  xy[9] = cy;
+}
+
+/* The signed scaled Jacobian of a quad, computed independently of the library: the minimum
+ * over the corners of the cross product of the two normalized edges leaving the corner. */
+static double scaled_jacobian(const double *xy, unsigned dim, const uint32_t *q) {
+  double best = 1.0;
+  int c;
+  for (c = 0; c < 4; ++c) {
+    const double *p = xy + dim * q[c];
+    const double *a = xy + dim * q[(c + 1) % 4];
+    const double *b = xy + dim * q[(c + 3) % 4];
+    double ux = a[0] - p[0], uy = a[1] - p[1], vx = b[0] - p[0], vy = b[1] - p[1];
+    double sj = (ux * vy - uy * vx) / (sqrt(ux * ux + uy * uy) * sqrt(vx * vx + vy * vy));
+    if (sj < best) best = sj;
+  }
+  return best;
+}
+
+static int last_error_mentions(const char *word) {
+  const char *e = quadopt_last_error();
+  return e != NULL && strstr(e, word) != NULL;
+}
+
+static void test_version_and_strings(void) {
+  uint32_t major = 99, minor = 99, patch = 99;
+  char expected[64];
+  int s;
+  quadopt_version_numbers(&major, &minor, &patch);
+  CHECK(major == QUADOPT_VERSION_MAJOR && minor == QUADOPT_VERSION_MINOR && patch == QUADOPT_VERSION_PATCH);
+  sprintf(expected, "%u.%u.%u", (unsigned)major, (unsigned)minor, (unsigned)patch);
+  CHECK(strcmp(quadopt_version(), expected) == 0);
+  quadopt_version_numbers(NULL, NULL, NULL); /* each may be NULL */
+  quadopt_version_numbers(NULL, &minor, NULL);
+  CHECK(minor == QUADOPT_VERSION_MINOR);
+
+  /* Every status has its own non-empty string; anything else is "unknown status". */
+  for (s = 0; s <= 13; ++s) {
+    int t;
+    CHECK(quadopt_status_string(s) != NULL && quadopt_status_string(s)[0] != '\0');
+    CHECK(strcmp(quadopt_status_string(s), "unknown status") != 0);
+    for (t = 0; t < s; ++t) CHECK(strcmp(quadopt_status_string(s), quadopt_status_string(t)) != 0);
+  }
+  CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OK), "ok") == 0);
+  CHECK(strcmp(quadopt_status_string(-1), "unknown status") == 0);
+  CHECK(strcmp(quadopt_status_string(14), "unknown status") == 0);
+  CHECK(strcmp(quadopt_status_string(2147483647), "unknown status") == 0);
+  /* The enum values are the agreed ABI. */
+  CHECK(QUADOPT_STATUS_OK == 0 && QUADOPT_STATUS_NULL_POINTER == 1 && QUADOPT_STATUS_INVALID_ARGUMENT == 2);
+  CHECK(QUADOPT_STATUS_INVALID_OPTION == 3 && QUADOPT_STATUS_NO_QUADS == 4 && QUADOPT_STATUS_INDEX_OUT_OF_RANGE == 5);
+  CHECK(QUADOPT_STATUS_REPEATED_VERTEX == 6 && QUADOPT_STATUS_NON_MANIFOLD == 7);
+  CHECK(QUADOPT_STATUS_NON_FINITE_COORDINATE == 8 && QUADOPT_STATUS_NON_ORIENTABLE == 9);
+  CHECK(QUADOPT_STATUS_MISMATCH == 10 && QUADOPT_STATUS_CANCELLED == 11 && QUADOPT_STATUS_PANIC == 12);
+  CHECK(QUADOPT_STATUS_NOT_PLANAR == 13);
+  CHECK(QUADOPT_METHOD_EMBEDDED_POLYGON == 0 && QUADOPT_METHOD_LAPLACIAN == 1 && QUADOPT_METHOD_COTANGENT == 2 &&
+        QUADOPT_METHOD_ANGLE_BASED == 3);
+  CHECK(QUADOPT_BOUNDARY_AUTO == 0 && QUADOPT_BOUNDARY_FIXED == 1 && QUADOPT_BOUNDARY_SLIDE == 2 &&
+        QUADOPT_BOUNDARY_SNAP == 3);
+}
+
+static void test_defaults(void) {
+  QuadoptOptions o, v;
+  QuadoptReport r;
+  const unsigned char *bytes;
+  size_t i;
+  int zero = 1;
+  memset(&o, 0xAB, sizeof o);
+  quadopt_options_default(&o);
+  quadopt_options_default(NULL); /* a no-op */
+  CHECK(o.struct_size == sizeof(QuadoptOptions));
+  CHECK(o.method == QUADOPT_METHOD_EMBEDDED_POLYGON);
+  CHECK(o.boundary == QUADOPT_BOUNDARY_AUTO);
+  CHECK(o.max_iterations == 1000);
+  CHECK(o.lambda == 1.0);
+  CHECK(o.tau == 1e-7);
+  CHECK(o.feature_angle_deg == 45.0);
+  CHECK(o.guard_floor == 0.05);
+  CHECK(o.max_boundary_deviation < 0.0);
+  CHECK(o.tau_absolute == 0 && o.guard == 1 && o.untangle == 1 && o.keep_best == 1);
+  CHECK(o.progress == NULL && o.progress_user_data == NULL);
+  v = quadopt_options_defaults();
+  CHECK(v.struct_size == o.struct_size && v.method == o.method && v.boundary == o.boundary &&
+        v.max_iterations == o.max_iterations && v.lambda == o.lambda && v.tau == o.tau &&
+        v.feature_angle_deg == o.feature_angle_deg && v.guard_floor == o.guard_floor &&
+        v.max_boundary_deviation == o.max_boundary_deviation && v.tau_absolute == o.tau_absolute &&
+        v.guard == o.guard && v.untangle == o.untangle && v.keep_best == o.keep_best && v.progress == NULL);
+
+  /* quadopt_options_init: the same defaults, for exactly the caller's struct size. */
+  {
+    union {
+      QuadoptOptions o;
+      unsigned char bytes[sizeof(QuadoptOptions) + 16];
+    } big;
+    QuadoptOptions w;
+    int tail_untouched = 1;
+    memset(&big, 0xEE, sizeof big);
+    CHECK_STATUS(quadopt_options_init(&big.o, sizeof big), QUADOPT_STATUS_OK);
+    CHECK(big.o.struct_size == sizeof(QuadoptOptions)); /* what the library filled */
+    CHECK(big.o.lambda == o.lambda && big.o.tau == o.tau && big.o.max_iterations == o.max_iterations &&
+          big.o.guard == o.guard && big.o.progress == NULL);
+    for (i = sizeof(QuadoptOptions); i < sizeof big; ++i) tail_untouched = tail_untouched && big.bytes[i] == 0xEE;
+    CHECK(tail_untouched);
+    memset(&w, 0xEE, sizeof w);
+    CHECK_STATUS(quadopt_options_init(&w, sizeof w), QUADOPT_STATUS_OK);
+    CHECK(w.struct_size == sizeof w && w.feature_angle_deg == 45.0 && w.boundary == QUADOPT_BOUNDARY_AUTO);
+    CHECK_STATUS(quadopt_options_init(NULL, sizeof w), QUADOPT_STATUS_NULL_POINTER);
+    memset(&w, 0xEE, sizeof w);
+    CHECK_STATUS(quadopt_options_init(&w, 8), QUADOPT_STATUS_INVALID_ARGUMENT);
+    CHECK(w.struct_size == 0xEEEEEEEEu && w.method == 0xEEEEEEEEu); /* nothing written */
+  }
+
+  r = quadopt_report_init();
+  CHECK(r.struct_size == sizeof(QuadoptReport));
+  bytes = (const unsigned char *)&r;
+  for (i = offsetof(QuadoptReport, converged); i < sizeof r; ++i) zero = zero && bytes[i] == 0;
+  CHECK(zero);
+}
+
+static void test_quality(void) {
+  double xy[2 * GRID_N], per_quad[GRID_Q + 1];
+  double expected_min = 1.0, expected_max = -1.0, expected_sum = 0.0;
+  size_t expected_inverted = 0;
+  QuadoptQuality q;
+  int k;
+  grid_coords(xy, 1.6, 1.5);
+  per_quad[GRID_Q] = -42.0; /* past quad_count: must not be written */
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, grid_quads, GRID_Q, &q, per_quad, GRID_Q + 1), QUADOPT_STATUS_OK);
+  for (k = 0; k < GRID_Q; ++k) {
+    double sj = scaled_jacobian(xy, 2, grid_quads + 4 * k);
+    CHECK(fabs(per_quad[k] - sj) <= 1e-15);
+    if (sj < expected_min) expected_min = sj;
+    if (sj > expected_max) expected_max = sj;
+    expected_sum += sj;
+    expected_inverted += sj <= 0.0;
+  }
+  CHECK(per_quad[GRID_Q] == -42.0);
+  CHECK(fabs(q.min - expected_min) <= 1e-15 && fabs(q.max - expected_max) <= 1e-15);
+  CHECK(fabs(q.avg - expected_sum / GRID_Q) <= 1e-15);
+  /* Quad 3 = (1.6,1.5) (2,1) (2,2) (1,2) is concave at the centre: by hand, the corner there
+   * has cross((0.4,-0.5), (-0.6,0.5)) = 0.2 - 0.3 < 0, so it counts as inverted. */
+  CHECK(q.inverted == 1 && expected_inverted == 1 && per_quad[3] < 0.0);
+  /* Quad 0 = (0,0) (1,0) (1.6,1.5) (0,1): the smallest corner is at (1.6,1.5), between the
+   * edges to (0,1) = (-1.6,-0.5) and to (1,0) = (-0.6,-1.5). By hand:
+   * cross((-0.6,-1.5), (-1.6,-0.5)) / (|..| |..|) = (0.3 - 2.4) / (sqrt(2.61) sqrt(2.81)). */
+  CHECK(fabs(per_quad[0] - (0.6 * 0.5 * -1.0 + 1.5 * 1.6) / (sqrt(2.61) * sqrt(2.81))) <= 1e-15);
+
+  /* The unit grid: every quad is a square. */
+  grid_coords(xy, 1.0, 1.0);
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, grid_quads, GRID_Q, &q, NULL, 0), QUADOPT_STATUS_OK);
+  CHECK(q.min == 1.0 && q.max == 1.0 && q.avg == 1.0 && q.inverted == 0);
+
+  /* Dragging the centre across the right-hand edge inverts quads 0 and 2. */
+  grid_coords(xy, 2.5, 1.0);
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, grid_quads, GRID_Q, &q, per_quad, GRID_Q), QUADOPT_STATUS_OK);
+  CHECK(q.inverted == 2 && per_quad[1] <= 0.0 && per_quad[3] <= 0.0 && q.min <= 0.0);
+}
+
+static void test_optimize(void) {
+  double xy[2 * GRID_N], xyz[3 * GRID_N], before[2 * GRID_N];
+  QuadoptOptions o;
+  QuadoptReport r;
+  int i;
+  grid_coords(xy, 1.6, 1.5);
+  memcpy(before, xy, sizeof xy);
+  quadopt_options_default(&o);
+  o.tau = 1e-14;
+  r = quadopt_report_init();
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
+  /* The corners of the square never move; the 4 edge midpoints may slide along straight sides
+   * and the centre goes back to (1, 1). */
+  CHECK(memcmp(xy, before, 2 * sizeof(double)) == 0);
+  CHECK(memcmp(xy + 4, before + 4, 2 * sizeof(double)) == 0);
+  CHECK(memcmp(xy + 12, before + 12, 2 * sizeof(double)) == 0);
+  CHECK(memcmp(xy + 16, before + 16, 2 * sizeof(double)) == 0);
+  CHECK(fabs(xy[8] - 1.0) < 1e-3 && fabs(xy[9] - 1.0) < 1e-3);
+  CHECK(xy[3] == 0.0 && xy[6] == 0.0 && xy[10] == 2.0 && xy[15] == 2.0); /* midpoints stay on the sides */
+  CHECK(r.struct_size == sizeof(QuadoptReport));
+  CHECK(r.corners == 4);
+  CHECK(r.movable == 5);
+  CHECK(r.input.min < 0.8 && r.output.min > 0.999 && r.output.inverted == 0);
+  CHECK(r.iterations >= 1 && r.converged == 1);
+  CHECK(r.loops_slide + r.loops_snap + r.loops_fixed == 1);
+
+  /* dim 3: the same x and y, z never written (a NaN z is never even read). */
+  grid_coords(xy, 1.6, 1.5);
+  for (i = 0; i < GRID_N; ++i) {
+    xyz[3 * i] = xy[2 * i];
+    xyz[3 * i + 1] = xy[2 * i + 1];
+    xyz[3 * i + 2] = i == 4 ? NAN : 0.25 * i;
+  }
+  CHECK_STATUS(quadopt_optimize(xyz, 3, GRID_N, grid_quads, GRID_Q, NULL, &o, NULL), QUADOPT_STATUS_OK);
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, NULL), QUADOPT_STATUS_OK);
+  for (i = 0; i < GRID_N; ++i) {
+    CHECK(xyz[3 * i] == xy[2 * i] && xyz[3 * i + 1] == xy[2 * i + 1]);
+    if (i == 4) {
+      CHECK(isnan(xyz[3 * i + 2]));
+    } else {
+      CHECK(xyz[3 * i + 2] == 0.25 * i);
+    }
+  }
+
+  /* A fixed centre stays where it is, bit for bit; NULL options are the defaults. */
+  {
+    uint8_t fixed[GRID_N] = {0, 0, 0, 0, 7, 0, 0, 0, 0};
+    grid_coords(xy, 1.6, 1.5);
+    CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, fixed, NULL, NULL), QUADOPT_STATUS_OK);
+    CHECK(xy[8] == 1.6 && xy[9] == 1.5);
+  }
+  /* With a fixed boundary only the centre moves. */
+  grid_coords(xy, 1.6, 1.5);
+  o.boundary = QUADOPT_BOUNDARY_FIXED;
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
+  CHECK(memcmp(xy, before, 8 * sizeof(double)) == 0 && memcmp(xy + 10, before + 10, 8 * sizeof(double)) == 0);
+  CHECK(r.movable == 1 && fabs(xy[8] - 1.0) < 1e-3);
+}
+
+static void test_handle(void) {
+  double a[2 * GRID_N], b[2 * GRID_N], ref[2 * GRID_N];
+  QuadoptOptimizer *h = NULL;
+  QuadoptReport r1 = quadopt_report_init(), r2 = quadopt_report_init();
+  grid_coords(a, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimizer_create(a, 2, GRID_N, grid_quads, GRID_Q, NULL, &h), QUADOPT_STATUS_OK);
+  CHECK(h != NULL);
+  /* The handle gives what quadopt_optimize gives, for any coordinates of the connectivity. */
+  grid_coords(ref, 0.7, 1.2);
+  CHECK_STATUS(quadopt_optimize(ref, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, &r1), QUADOPT_STATUS_OK);
+  grid_coords(b, 0.7, 1.2);
+  CHECK_STATUS(quadopt_optimizer_optimize(h, b, 2, GRID_N, NULL, &r2), QUADOPT_STATUS_OK);
+  CHECK(memcmp(b, ref, sizeof b) == 0);
+  CHECK(r1.iterations == r2.iterations && r1.output.min == r2.output.min && r1.corners == r2.corners);
+  /* ... and again: the handle is not changed by a run. */
+  grid_coords(b, 0.7, 1.2);
+  CHECK_STATUS(quadopt_optimizer_optimize(h, b, 2, GRID_N, NULL, NULL), QUADOPT_STATUS_OK);
+  CHECK(memcmp(b, ref, sizeof b) == 0);
+  quadopt_optimizer_free(h);
+  quadopt_optimizer_free(NULL);
+}
+
+static void test_growable_structs(void) {
+  /* A newer caller's larger structs: the library reads and writes only the prefix it knows. */
+  union {
+    QuadoptOptions o;
+    unsigned char bytes[sizeof(QuadoptOptions) + 32];
+  } big_o;
+  union {
+    QuadoptReport r;
+    unsigned char bytes[sizeof(QuadoptReport) + 32];
+  } big_r;
+  double xy[2 * GRID_N];
+  size_t i;
+  int untouched = 1;
+  memset(&big_o, 0x5A, sizeof big_o);
+  quadopt_options_default(&big_o.o);
+  big_o.o.struct_size = (uint32_t)sizeof big_o;
+  memset(&big_r, 0xC3, sizeof big_r);
+  big_r.r.struct_size = (uint32_t)sizeof big_r;
+  grid_coords(xy, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &big_o.o, &big_r.r), QUADOPT_STATUS_OK);
+  CHECK(big_r.r.struct_size == sizeof(QuadoptReport)); /* tells the caller how much was written */
+  CHECK(big_r.r.corners == 4);
+  for (i = sizeof(QuadoptReport); i < sizeof big_r; ++i) untouched = untouched && big_r.bytes[i] == 0xC3;
+  CHECK(untouched);
+}
+
+/* A run of quadopt_optimize that must fail with `expected`, writing nothing. */
+static void expect_failure(QuadoptStatus expected, double *coords, uint32_t dim, size_t n, const uint32_t *quads,
+                           size_t nq, const uint8_t *fixed, const QuadoptOptions *o, const char *mention, int line) {
+  QuadoptReport r, r_before;
+  double *before = NULL;
+  size_t len = (coords != NULL && n < 1000) ? n * dim : 0;
+  QuadoptStatus s;
+  memset(&r, 0x77, sizeof r);
+  r.struct_size = sizeof r;
+  r_before = r;
+  if (len) {
+    before = (double *)malloc(len * sizeof(double));
+    memcpy(before, coords, len * sizeof(double));
+  }
+  s = quadopt_optimize(coords, dim, n, quads, nq, fixed, o, &r);
+  if (s != expected) {
+    fprintf(stderr, "line %d: status %d (%s), expected %d (%s): %s\n", line, (int)s, quadopt_status_string((int)s),
+            (int)expected, quadopt_status_string((int)expected), quadopt_last_error());
+  }
+  CHECK(s == expected);
+  CHECK(memcmp(&r, &r_before, sizeof r) == 0);
+  if (len) {
+    CHECK(memcmp(coords, before, len * sizeof(double)) == 0);
+  }
+  CHECK(quadopt_last_error()[0] != '\0');
+  if (mention && !last_error_mentions(mention)) {
+    fprintf(stderr, "line %d: last error \"%s\" does not mention \"%s\"\n", line, quadopt_last_error(), mention);
+    CHECK(0);
+  }
+  free(before);
+}
+
+#define EXPECT_FAILURE(status, coords, dim, n, quads, nq, fixed, o, mention) \
+  expect_failure(status, coords, dim, n, quads, nq, fixed, o, mention, __LINE__)
+
+static int cancel_calls = 0;
+static bool cancel_at_third(const QuadoptProgress *p, void *user) {
+  int *count = (int *)user;
+  CHECK(p != NULL && p->iteration >= 1 && p->max_iterations == 1000 && p->pass >= 1 && p->pass <= p->passes);
+  ++*count;
+  ++cancel_calls;
+  return *count < 3;
+}
+
+static void test_errors(void) {
+  double xy[2 * GRID_N];
+  QuadoptOptions o;
+  QuadoptQuality q, q_before;
+  QuadoptOptimizer *h = (QuadoptOptimizer *)&q; /* a sentinel that must not be overwritten */
+  double per_quad[GRID_Q];
+  grid_coords(xy, 1.6, 1.5);
+
+  /* NULL pointers. */
+  EXPECT_FAILURE(QUADOPT_STATUS_NULL_POINTER, NULL, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, "coords");
+  EXPECT_FAILURE(QUADOPT_STATUS_NULL_POINTER, xy, 2, GRID_N, NULL, GRID_Q, NULL, NULL, "quads");
+  memset(&q, 0x11, sizeof q);
+  q_before = q;
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, 0), QUADOPT_STATUS_NULL_POINTER);
+  CHECK_STATUS(quadopt_quality(NULL, 2, GRID_N, grid_quads, GRID_Q, &q, NULL, 0), QUADOPT_STATUS_NULL_POINTER);
+  CHECK(memcmp(&q, &q_before, sizeof q) == 0);
+  CHECK_STATUS(quadopt_optimizer_create(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL), QUADOPT_STATUS_NULL_POINTER);
+  CHECK_STATUS(quadopt_optimizer_optimize(NULL, xy, 2, GRID_N, NULL, NULL), QUADOPT_STATUS_NULL_POINTER);
+  CHECK(last_error_mentions("opt"));
+
+  /* Invalid arguments: dimension, struct sizes, buffer length, overflowing counts. */
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 1, GRID_N, grid_quads, GRID_Q, NULL, NULL, "dim");
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 4, 4, grid_quads, 1, NULL, NULL, "dim");
+  quadopt_options_default(&o);
+  o.struct_size = 0;
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "struct_size");
+  o.struct_size = (uint32_t)sizeof(QuadoptOptions) - 8;
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "struct_size");
+  {
+    QuadoptReport small = quadopt_report_init();
+    small.struct_size = (uint32_t)offsetof(QuadoptReport, iterations);
+    CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, &small),
+                 QUADOPT_STATUS_INVALID_ARGUMENT);
+    CHECK(small.struct_size == offsetof(QuadoptReport, iterations) && small.iterations == 0);
+    CHECK(last_error_mentions("struct_size"));
+  }
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, grid_quads, GRID_Q, &q, per_quad, GRID_Q - 1),
+               QUADOPT_STATUS_INVALID_ARGUMENT);
+  CHECK(last_error_mentions("per_quad_len"));
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 3, SIZE_MAX / 2, grid_quads, GRID_Q, NULL, NULL, NULL);
+  EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, SIZE_MAX / 3, NULL, NULL, NULL);
+
+  /* Invalid options, each named in the message. */
+#define BAD_OPTION(field, value)                                                                          \
+  do {                                                                                                    \
+    quadopt_options_default(&o);                                                                          \
+    o.field = value;                                                                                      \
+    EXPECT_FAILURE(QUADOPT_STATUS_INVALID_OPTION, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, #field); \
+  } while (0)
+  BAD_OPTION(lambda, 0.0);
+  BAD_OPTION(lambda, 1.5);
+  BAD_OPTION(lambda, NAN);
+  BAD_OPTION(tau, -1.0);
+  BAD_OPTION(tau, NAN);
+  BAD_OPTION(tau, INFINITY);
+  BAD_OPTION(max_iterations, 0);
+  BAD_OPTION(feature_angle_deg, 181.0);
+  BAD_OPTION(feature_angle_deg, -1.0);
+  BAD_OPTION(guard_floor, 0.0);
+  BAD_OPTION(guard_floor, 2.0);
+  BAD_OPTION(method, 4);
+  BAD_OPTION(boundary, 99);
+  BAD_OPTION(max_boundary_deviation, NAN);
+#undef BAD_OPTION
+
+  /* The mesh itself. */
+  EXPECT_FAILURE(QUADOPT_STATUS_NO_QUADS, xy, 2, GRID_N, NULL, 0, NULL, NULL, NULL);
+  EXPECT_FAILURE(QUADOPT_STATUS_NO_QUADS, xy, 2, GRID_N, grid_quads, 0, NULL, NULL, NULL);
+  {
+    uint32_t bad[4 * GRID_Q];
+    memcpy(bad, grid_quads, sizeof bad);
+    bad[6] = GRID_N; /* quad 1, corner 2 */
+    EXPECT_FAILURE(QUADOPT_STATUS_INDEX_OUT_OF_RANGE, xy, 2, GRID_N, bad, GRID_Q, NULL, NULL, "quad 1");
+    bad[6] = 0xFFFFFFFFu;
+    EXPECT_FAILURE(QUADOPT_STATUS_INDEX_OUT_OF_RANGE, xy, 2, GRID_N, bad, GRID_Q, NULL, NULL, "4294967295");
+    memcpy(bad, grid_quads, sizeof bad);
+    bad[13] = bad[12]; /* quad 3 = 4 4 8 7 */
+    EXPECT_FAILURE(QUADOPT_STATUS_REPEATED_VERTEX, xy, 2, GRID_N, bad, GRID_Q, NULL, NULL, "quad 3");
+  }
+  {
+    /* Three quads on the edge (0, 1). */
+    double p[2 * 8] = {0, 0, 1, 0, 1, 1, 0, 1, 1, -1, 0, -1, 0.5, 2, 0.5, -2};
+    uint32_t nm[12] = {0, 1, 2, 3, 0, 5, 4, 1, 1, 0, 6, 7};
+    EXPECT_FAILURE(QUADOPT_STATUS_NON_MANIFOLD, p, 2, 8, nm, 3, NULL, NULL, "(0, 1)");
+  }
+  {
+    /* A Moebius strip of three quads: top t0 t1 t2 = 0 1 2, bottom b0 b1 b2 = 3 4 5; the last
+     * quad joins t2-b2 to b0-t0 with a half twist. */
+    double p[2 * 6] = {0, 1, 1, 1, 2, 1, 0, 0, 1, 0, 2, 0};
+    uint32_t mq[12] = {0, 3, 4, 1, 1, 4, 5, 2, 2, 5, 0, 3};
+    EXPECT_FAILURE(QUADOPT_STATUS_NON_ORIENTABLE, p, 2, 6, mq, 3, NULL, NULL, "orient");
+  }
+  {
+    double bad[2 * GRID_N];
+    memcpy(bad, xy, sizeof bad);
+    bad[9] = NAN;
+    EXPECT_FAILURE(QUADOPT_STATUS_NON_FINITE_COORDINATE, bad, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, "vertex 4");
+    bad[9] = 1.5;
+    bad[14] = -INFINITY;
+    EXPECT_FAILURE(QUADOPT_STATUS_NON_FINITE_COORDINATE, bad, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, "vertex 7");
+    CHECK_STATUS(quadopt_quality(bad, 2, GRID_N, grid_quads, GRID_Q, &q, NULL, 0),
+                 QUADOPT_STATUS_NON_FINITE_COORDINATE);
+    CHECK(memcmp(&q, &q_before, sizeof q) == 0);
+  }
+
+  /* A handle used with another vertex count; creating from a bad mesh writes no handle. */
+  {
+    QuadoptOptimizer *good = NULL;
+    double more[2 * (GRID_N + 1)];
+    uint32_t bad[4 * GRID_Q];
+    memcpy(bad, grid_quads, sizeof bad);
+    bad[0] = 100;
+    CHECK_STATUS(quadopt_optimizer_create(xy, 2, GRID_N, bad, GRID_Q, NULL, &h), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+    CHECK(h == (QuadoptOptimizer *)&q);
+    CHECK_STATUS(quadopt_optimizer_create(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &good), QUADOPT_STATUS_OK);
+    memcpy(more, xy, sizeof xy);
+    more[2 * GRID_N] = more[2 * GRID_N + 1] = 5.0;
+    CHECK_STATUS(quadopt_optimizer_optimize(good, more, 2, GRID_N + 1, NULL, NULL), QUADOPT_STATUS_MISMATCH);
+    CHECK(last_error_mentions("10"));
+    CHECK(more[8] == 1.6 && more[9] == 1.5);
+    more[9] = NAN;
+    CHECK_STATUS(quadopt_optimizer_optimize(good, more, 2, GRID_N, NULL, NULL), QUADOPT_STATUS_NON_FINITE_COORDINATE);
+    quadopt_options_default(&o);
+    o.lambda = -1.0;
+    CHECK_STATUS(quadopt_optimizer_optimize(good, xy, 2, GRID_N, &o, NULL), QUADOPT_STATUS_INVALID_OPTION);
+    CHECK_STATUS(quadopt_optimizer_optimize(good, xy, 5, GRID_N, NULL, NULL), QUADOPT_STATUS_INVALID_ARGUMENT);
+    CHECK_STATUS(quadopt_optimizer_optimize(good, NULL, 2, GRID_N, NULL, NULL), QUADOPT_STATUS_NULL_POINTER);
+    quadopt_optimizer_free(good);
+  }
+
+  /* Cancellation by the progress callback: nothing written. */
+  {
+    int count = 0;
+    quadopt_options_default(&o);
+    o.tau = 0.0; /* never converges: runs until cancelled */
+    o.progress = cancel_at_third;
+    o.progress_user_data = &count;
+    EXPECT_FAILURE(QUADOPT_STATUS_CANCELLED, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "cancel");
+    CHECK(count == 3);
+  }
+  /* QUADOPT_STATUS_PANIC (a library bug) and QUADOPT_STATUS_NOT_PLANAR (reserved) cannot be
+   * produced by input; their strings were checked above. */
+}
+
+int main(void) {
+  /* Nothing failed on this thread yet. */
+  CHECK(quadopt_last_error() != NULL && quadopt_last_error()[0] == '\0');
+  test_version_and_strings();
+  test_defaults();
+  test_quality();
+  test_optimize();
+  test_handle();
+  test_growable_structs();
+  test_errors();
+  CHECK(cancel_calls == 3);
+  printf("c_api_test: %d passed, %d failed\n", passed, failed);
+  return failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,297 @@
+// Tests of include/quadopt.hpp alone (no mesh library): the options builder, quadopt::Error,
+// the move-only Optimizer, progress callbacks (cancellation and exceptions), and concurrent
+// calls from several std::threads, with one shared handle and without.
+//
+// Usage: cpp_wrapper_test DATA_DIR
+#include "test_support.hpp"
+
+#include <quadopt.hpp>
+
+#include <atomic>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace {
+
+static_assert(!std::is_copy_constructible<quadopt::Optimizer>::value, "Optimizer is move-only");
+static_assert(!std::is_copy_assignable<quadopt::Optimizer>::value, "Optimizer is move-only");
+static_assert(std::is_nothrow_move_constructible<quadopt::Optimizer>::value, "Optimizer moves without throwing");
+static_assert(std::is_nothrow_move_assignable<quadopt::Optimizer>::value, "Optimizer moves without throwing");
+static_assert(std::is_base_of<std::runtime_error, quadopt::Error>::value, "Error is a std::runtime_error");
+
+qt::Mesh g_plate;
+qt::Mesh g_grid;
+
+void test_options() {
+  const QuadoptOptions d = quadopt_options_defaults();
+  quadopt::Options o;
+  CHECK(o.raw().struct_size == d.struct_size && o.raw().lambda == d.lambda && o.raw().tau == d.tau &&
+        o.raw().max_iterations == d.max_iterations && o.raw().method == d.method && o.raw().boundary == d.boundary);
+  o.method(quadopt::Method::Cotangent)
+      .boundary(quadopt::Boundary::Snap)
+      .max_iterations(17)
+      .lambda(0.5)
+      .tau(1e-9)
+      .tau_absolute(true)
+      .feature_angle_deg(30)
+      .guard(false)
+      .guard_floor(0.1)
+      .untangle(false)
+      .keep_best(false)
+      .max_boundary_deviation(0.25);
+  const QuadoptOptions &r = o.raw();
+  CHECK(r.method == QUADOPT_METHOD_COTANGENT && r.boundary == QUADOPT_BOUNDARY_SNAP);
+  CHECK(r.max_iterations == 17 && r.lambda == 0.5 && r.tau == 1e-9 && r.tau_absolute == 1);
+  CHECK(r.feature_angle_deg == 30 && r.guard == 0 && r.guard_floor == 0.1 && r.untangle == 0 && r.keep_best == 0);
+  CHECK(r.max_boundary_deviation == 0.25 && r.struct_size == sizeof(QuadoptOptions));
+  CHECK(std::string(quadopt::version()) == quadopt_version());
+  CHECK(std::string(quadopt::status_string(QUADOPT_STATUS_NO_QUADS)) == quadopt_status_string(4));
+}
+
+void test_errors() {
+  std::vector<double> xy = g_grid.xy();
+  const std::vector<double> before = xy;
+  // An invalid option: status, message naming the option, what() = "<status>: <message>".
+  try {
+    quadopt::optimize(xy, 2, g_grid.quads, quadopt::Options().lambda(0.0));
+    CHECK_MSG(false, "no exception");
+  } catch (const quadopt::Error &e) {
+    CHECK(e.status() == QUADOPT_STATUS_INVALID_OPTION);
+    CHECK(e.message().find("lambda") != std::string::npos);
+    CHECK(std::string(e.what()) == std::string("invalid option: ") + e.message());
+    CHECK(e.message() == quadopt_last_error());
+  }
+  CHECK(qt::same_bits(xy, before));
+  std::vector<std::uint32_t> bad = g_grid.quads;
+  bad[5] = static_cast<std::uint32_t>(g_grid.vertices());
+  CHECK_THROWS_STATUS(quadopt::optimize(xy, 2, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  CHECK_THROWS_STATUS(quadopt::quality(xy, 2, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  std::vector<double> per_quad(3, 7.0);
+  CHECK_THROWS_STATUS(quadopt::quality(xy, 2, bad, &per_quad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  CHECK(per_quad == std::vector<double>(3, 7.0));  // untouched on error
+  CHECK_THROWS_STATUS(quadopt::Optimizer(xy, 2, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  // The wrapper's own checks of vector sizes.
+  CHECK_THROWS_STATUS(quadopt::optimize(xy, 4, g_grid.quads), QUADOPT_STATUS_INVALID_ARGUMENT);
+  std::vector<double> odd(xy.begin(), xy.end() - 1);
+  CHECK_THROWS_STATUS(quadopt::optimize(odd, 2, g_grid.quads), QUADOPT_STATUS_INVALID_ARGUMENT);
+  std::vector<std::uint32_t> ragged(g_grid.quads.begin(), g_grid.quads.end() - 1);
+  CHECK_THROWS_STATUS(quadopt::quality(xy, 2, ragged), QUADOPT_STATUS_INVALID_ARGUMENT);
+  CHECK_THROWS_STATUS(quadopt::optimize(xy, 2, g_grid.quads, quadopt::Options(), std::vector<std::uint8_t>(3, 0)),
+                      QUADOPT_STATUS_INVALID_ARGUMENT);
+  CHECK(qt::same_bits(xy, before));
+}
+
+void test_optimizer_handle() {
+  const std::vector<double> start = g_plate.xy();
+  std::vector<double> ref = start;
+  const quadopt::Report rr = quadopt::optimize(ref, 2, g_plate.quads);
+  CHECK(rr.output.min > rr.input.min && rr.output.inverted == 0);
+
+  quadopt::Optimizer a(start, 2, g_plate.quads);
+  CHECK(static_cast<bool>(a) && a.dim() == 2 && a.vertex_count() == g_plate.vertices());
+  std::vector<double> xy = start;
+  const quadopt::Report r = a.optimize(xy);
+  CHECK(qt::same_bits(xy, ref));
+  CHECK(r.iterations == rr.iterations && qt::same_bits(r.output.min, rr.output.min));
+
+  // Move construction and assignment transfer the handle; the source is empty afterwards.
+  quadopt::Optimizer b(std::move(a));
+  CHECK(!a && static_cast<bool>(b) && b.get() != nullptr);
+  xy = start;
+  CHECK_THROWS_STATUS(a.optimize(xy), QUADOPT_STATUS_NULL_POINTER);
+  CHECK(qt::same_bits(xy, start));
+  b.optimize(xy);
+  CHECK(qt::same_bits(xy, ref));
+  quadopt::Optimizer c(g_grid.xy(), 2, g_grid.quads);
+  c = std::move(b);  // frees c's grid handle (ASan/LSan check this)
+  CHECK(!b && c.vertex_count() == g_plate.vertices());
+  xy = start;
+  c.optimize(xy);
+  CHECK(qt::same_bits(xy, ref));
+  // A coordinate set of another size: MISMATCH from the library.
+  std::vector<double> grid_xy = g_grid.xy();
+  CHECK_THROWS_STATUS(c.optimize(grid_xy), QUADOPT_STATUS_MISMATCH);
+
+  // dim 3 through the wrapper: same x, y; z untouched.
+  std::vector<double> xyz = g_plate.xyz;
+  for (std::size_t i = 0; i < g_plate.vertices(); ++i) xyz[3 * i + 2] = 0.5 + static_cast<double>(i);
+  quadopt::Optimizer d(xyz, 3, g_plate.quads);
+  d.optimize(xyz);
+  bool same = true;
+  for (std::size_t i = 0; i < g_plate.vertices(); ++i) {
+    same = same && qt::same_bits(xyz[3 * i], ref[2 * i]) && qt::same_bits(xyz[3 * i + 1], ref[2 * i + 1]) &&
+           xyz[3 * i + 2] == 0.5 + static_cast<double>(i);
+  }
+  CHECK(same);
+
+  // quality() agrees with the report, and its per-quad values with its statistics.
+  std::vector<double> per_quad;
+  const quadopt::Quality q = quadopt::quality(ref, 2, g_plate.quads, &per_quad);
+  CHECK(qt::same_bits(q.min, rr.output.min) && qt::same_bits(q.avg, rr.output.avg) && q.inverted == 0);
+  double lo = 2;
+  for (double v : per_quad) lo = std::fmin(lo, v);
+  CHECK(per_quad.size() == g_plate.quad_count() && lo == q.min);
+}
+
+struct Boom : std::runtime_error {
+  Boom() : std::runtime_error("boom") {}
+};
+
+void test_progress() {
+  const std::vector<double> start = g_grid.xy();
+  std::vector<double> xy = start;
+  std::size_t calls = 0, last_iteration = 0;
+  bool increasing = true;
+  quadopt::Options o;
+  o.progress([&](const quadopt::Progress &p) {
+    ++calls;
+    increasing = increasing && (p.iteration > last_iteration || p.iteration == 1);
+    last_iteration = p.iteration;
+    return true;
+  });
+  quadopt::Report r = quadopt::optimize(xy, 2, g_grid.quads, o);
+  CHECK(calls >= r.iterations && r.iterations > 0 && increasing);
+  // The callback does not change the result.
+  std::vector<double> plain = start;
+  quadopt::optimize(plain, 2, g_grid.quads);
+  CHECK(qt::same_bits(xy, plain));
+
+  // Returning false cancels: CANCELLED, nothing written.
+  xy = start;
+  calls = 0;
+  o.tau(0.0).progress([&](const quadopt::Progress &) { return ++calls < 2; });
+  CHECK_THROWS_STATUS(quadopt::optimize(xy, 2, g_grid.quads, o), QUADOPT_STATUS_CANCELLED);
+  CHECK(calls == 2 && qt::same_bits(xy, start));
+
+  // An exception in the callback cancels the run and reaches the caller unchanged.
+  o.progress([](const quadopt::Progress &p) -> bool {
+    if (p.iteration >= 2) throw Boom();
+    return true;
+  });
+  bool boom = false;
+  try {
+    quadopt::optimize(xy, 2, g_grid.quads, o);
+  } catch (const Boom &) {
+    boom = true;
+  }
+  CHECK(boom && qt::same_bits(xy, start));
+  // The same through a shared handle.
+  const quadopt::Optimizer h(start, 2, g_grid.quads);
+  boom = false;
+  try {
+    h.optimize(xy, o);
+  } catch (const Boom &) {
+    boom = true;
+  }
+  CHECK(boom && qt::same_bits(xy, start));
+}
+
+/// Several threads optimizing at once give exactly the single-threaded results.
+void test_concurrency() {
+  const int threads = 8;
+  const quadopt::Boundary modes[4] = {quadopt::Boundary::Auto, quadopt::Boundary::Slide, quadopt::Boundary::Snap,
+                                      quadopt::Boundary::Fixed};
+  std::vector<std::vector<double>> ref(4);
+  for (int m = 0; m < 4; ++m) {
+    ref[m] = g_plate.xy();
+    quadopt::optimize(ref[m], 2, g_plate.quads, quadopt::Options().boundary(modes[m]));
+  }
+  std::vector<double> grid_ref = g_grid.xy();
+  quadopt::optimize(grid_ref, 2, g_grid.quads);
+
+  // Without a shared handle: each thread its own quadopt::optimize calls.
+  std::atomic<bool> go{false};
+  std::vector<int> ok(threads, 0);
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      while (!go.load()) std::this_thread::yield();
+      int good = 1;
+      for (int rep = 0; rep < 3; ++rep) {
+        const int m = (t + rep) % 4;
+        std::vector<double> xy = g_plate.xy();
+        quadopt::optimize(xy, 2, g_plate.quads, quadopt::Options().boundary(modes[m]));
+        good &= qt::same_bits(xy, ref[m]) ? 1 : 0;
+        std::vector<double> g = g_grid.xy();
+        quadopt::optimize(g, 2, g_grid.quads);
+        good &= qt::same_bits(g, grid_ref) ? 1 : 0;
+      }
+      ok[t] = good;
+    });
+  }
+  go = true;
+  for (auto &th : pool) th.join();
+  for (int t = 0; t < threads; ++t) CHECK_MSG(ok[t] == 1, "thread " << t << " (own calls)");
+
+  // One handle shared by every thread, with different options per thread.
+  const quadopt::Optimizer shared(g_plate.xy(), 2, g_plate.quads);
+  pool.clear();
+  go = false;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      while (!go.load()) std::this_thread::yield();
+      int good = 1;
+      for (int rep = 0; rep < 3; ++rep) {
+        const int m = (t + rep) % 4;
+        std::vector<double> xy = g_plate.xy();
+        shared.optimize(xy, quadopt::Options().boundary(modes[m]));
+        good &= qt::same_bits(xy, ref[m]) ? 1 : 0;
+      }
+      ok[t] = good;
+    });
+  }
+  go = true;
+  for (auto &th : pool) th.join();
+  for (int t = 0; t < threads; ++t) CHECK_MSG(ok[t] == 1, "thread " << t << " (shared handle)");
+
+  // The last error is per thread: each thread sees its own failure's message even while the
+  // others fail differently at the same time.
+  pool.clear();
+  go = false;
+  std::vector<std::string> seen(threads);
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      while (!go.load()) std::this_thread::yield();
+      std::vector<double> xy = g_grid.xy();
+      std::vector<std::uint32_t> bad = g_grid.quads;
+      bad[4 * t + 1] = 1000000u + static_cast<std::uint32_t>(t);  // quad t, corner 1
+      for (int rep = 0; rep < 20; ++rep) {
+        const QuadoptStatus s = quadopt_optimize(xy.data(), 2, g_grid.vertices(), bad.data(), g_grid.quad_count(),
+                                                 nullptr, nullptr, nullptr);
+        std::this_thread::yield();
+        seen[t] = s == QUADOPT_STATUS_INDEX_OUT_OF_RANGE ? quadopt_last_error() : "wrong status";
+      }
+    });
+  }
+  go = true;
+  for (auto &th : pool) th.join();
+  for (int t = 0; t < threads; ++t) {
+    const std::string want = "quad " + std::to_string(t) + " corner 1 refers to vertex " + std::to_string(1000000 + t);
+    CHECK_MSG(seen[t].find(want) != std::string::npos, "thread " << t << ": " << seen[t]);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    std::cerr << "usage: cpp_wrapper_test DATA_DIR\n";
+    return 2;
+  }
+  const std::string dir = argv[1];
+  try {
+    g_plate = qt::read_obj(dir + "/plate_hole.obj");
+    g_grid = qt::read_obj(dir + "/jittered_grid.obj");
+    test_options();
+    test_errors();
+    test_optimizer_handle();
+    test_progress();
+    test_concurrency();
+  } catch (const std::exception &e) {
+    CHECK_MSG(false, "unexpected exception: " << e.what());
+  }
+  return qt::finish("cpp_wrapper_test");
+}

@@ -1,0 +1,586 @@
+// End-to-end tests on real mesh files: OpenMesh loads them (OBJ and OFF), CGAL extracts the
+// boundary cycles of a Surface_mesh built from them, and quadopt runs through the C header,
+// the C++ wrapper and the OpenMesh and CGAL adapters. Checked:
+//
+// - corners and fixed vertices are bit-identical after optimization;
+// - every boundary vertex lies within 1e-9 * bbox diagonal of its original boundary cycle
+//   (point-to-segment distance); with a fixed boundary it does not move at all;
+// - quality improves (fewer inverted quads, or a higher minimum), and the report agrees with
+//   quadopt_quality() of the result;
+// - the adapters give bit for bit what the C call gives on the same arrays (OpenMesh's locked
+//   and feature status and CGAL's "v:fixed" map acting as the fixed mask);
+// - the Rust CLI (`quadopt optimize IN -o OUT --json`) gives bit for bit the same coordinates
+//   and the same report numbers for the same file and options.
+//
+// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --non-quad)
+#include "test_support.hpp"
+
+#include <quadopt.h>
+#include <quadopt.hpp>
+#include <quadopt/cgal.hpp>
+#include <quadopt/openmesh.hpp>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct DoubleTraits : OpenMesh::DefaultTraits {
+  typedef OpenMesh::Vec3d Point;
+  typedef OpenMesh::Vec3d Normal;
+};
+using OMeshD = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+using OMeshF = OpenMesh::PolyMesh_ArrayKernelT<>;  // the default traits: float points
+using K = CGAL::Simple_cartesian<double>;
+using SM3 = CGAL::Surface_mesh<K::Point_3>;
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SM2 = CGAL::Surface_mesh<Epick::Point_2>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+std::string g_data, g_cli, g_tmp;
+
+template <class M>
+M load(const std::string &path) {
+  M m;
+  OpenMesh::IO::Options opt;
+  if (!OpenMesh::IO::read_mesh(m, path, opt)) throw std::runtime_error("OpenMesh cannot read " + path);
+  return m;
+}
+
+/// A Surface_mesh with the same vertex indices as the arrays.
+template <class SM, class MakePoint>
+SM surface_mesh(const std::vector<double> &xy, const std::vector<std::uint32_t> &quads, MakePoint make) {
+  SM sm;
+  for (std::size_t i = 0; i < xy.size() / 2; ++i) sm.add_vertex(make(xy[2 * i], xy[2 * i + 1]));
+  for (std::size_t q = 0; q < quads.size() / 4; ++q) {
+    using V = typename SM::Vertex_index;
+    const auto f = sm.add_face(V(quads[4 * q]), V(quads[4 * q + 1]), V(quads[4 * q + 2]), V(quads[4 * q + 3]));
+    if (f == SM::null_face()) throw std::runtime_error("CGAL rejected quad " + std::to_string(q));
+  }
+  return sm;
+}
+
+SM3 surface_mesh3(const std::vector<double> &xy, const std::vector<std::uint32_t> &quads) {
+  return surface_mesh<SM3>(xy, quads, [](double x, double y) { return K::Point_3(x, y, 0.0); });
+}
+
+/// Boundary cycles as vertex loops, from CGAL::Polygon_mesh_processing::extract_boundary_cycles.
+std::vector<std::vector<std::uint32_t>> boundary_cycles(const SM3 &sm) {
+  std::vector<SM3::Halfedge_index> starts;
+  PMP::extract_boundary_cycles(sm, std::back_inserter(starts));
+  std::vector<std::vector<std::uint32_t>> cycles;
+  for (auto h : starts) {
+    std::vector<std::uint32_t> c;
+    for (auto hh : CGAL::halfedges_around_face(h, sm)) c.push_back(static_cast<std::uint32_t>(sm.source(hh)));
+    cycles.push_back(c);
+  }
+  return cycles;
+}
+
+/// Turning angle (degrees, [0, 180]) of the boundary at each cycle vertex.
+double turning_deg(const std::vector<double> &xy, std::uint32_t prev, std::uint32_t v, std::uint32_t next) {
+  const double ax = xy[2 * v] - xy[2 * prev], ay = xy[2 * v + 1] - xy[2 * prev + 1];
+  const double bx = xy[2 * next] - xy[2 * v], by = xy[2 * next + 1] - xy[2 * v + 1];
+  return std::fabs(std::atan2(ax * by - ay * bx, ax * bx + ay * by)) * 180.0 / M_PI;
+}
+
+/// What a file looks like to the tests: arrays, boundary cycles, corners.
+struct Case {
+  std::string path;
+  std::vector<double> xyz;  // as OpenMesh loaded them (z = 0 in our files)
+  std::vector<double> xy;
+  std::vector<std::uint32_t> quads;
+  std::vector<std::vector<std::uint32_t>> cycles;
+  std::vector<std::uint8_t> on_boundary;
+  std::vector<std::uint32_t> corners;  // turning by more than 45 degrees
+  double diag = 0;
+  std::size_t n() const { return xy.size() / 2; }
+  std::size_t nq() const { return quads.size() / 4; }
+};
+
+Case load_case(const std::string &file) {
+  Case c;
+  c.path = g_data + "/" + file;
+  const OMeshD om = load<OMeshD>(c.path);
+  for (auto v : om.vertices()) {
+    const auto &p = om.point(v);
+    c.xyz.insert(c.xyz.end(), {p[0], p[1], p[2]});
+  }
+  quadopt::openmesh::MeshOptions mo;
+  const auto arrays = quadopt::openmesh::to_arrays(om, mo);
+  c.xy = arrays.xy;
+  c.quads = arrays.quads;
+  CHECK(arrays.fixed.empty());
+  // OpenMesh parses coordinates as float; the test files hold float values written with 17
+  // digits, so the load is exact: compare with an exact parse of the OBJ twin of the file.
+  const std::string obj = file.substr(0, file.rfind('.')) + ".obj";
+  const qt::Mesh exact = qt::read_obj(g_data + "/" + obj);
+  CHECK_MSG(qt::same_bits(c.xyz, exact.xyz), c.path << ": OpenMesh's coordinates differ from the file's");
+  CHECK_MSG(c.quads == exact.quads, c.path << ": OpenMesh's face order differs from the file's");
+
+  const SM3 sm = surface_mesh3(c.xy, c.quads);
+  c.cycles = boundary_cycles(sm);
+  c.on_boundary.assign(c.n(), 0);
+  for (const auto &cyc : c.cycles) {
+    for (std::size_t i = 0; i < cyc.size(); ++i) {
+      const std::uint32_t prev = cyc[(i + cyc.size() - 1) % cyc.size()], v = cyc[i], next = cyc[(i + 1) % cyc.size()];
+      c.on_boundary[v] = 1;
+      const double t = turning_deg(c.xy, prev, v, next);
+      CHECK_MSG(std::fabs(t - 45.0) > 1.0, "vertex " << v << " turns by " << t << " degrees, too close to call");
+      if (t > 45.0) c.corners.push_back(v);
+    }
+  }
+  c.diag = qt::bbox_diagonal(c.xy);
+  return c;
+}
+
+/// Runs quadopt_optimize (C) on a dim-3 copy of the case's coordinates; returns x, y.
+std::vector<double> run_c(const Case &c, const QuadoptOptions &o, const std::vector<std::uint8_t> &fixed,
+                          QuadoptReport &report) {
+  std::vector<double> xyz = c.xyz;
+  for (std::size_t i = 0; i < c.n(); ++i) xyz[3 * i + 2] = -3.25;  // must come back untouched
+  report = quadopt_report_init();
+  const QuadoptStatus s = quadopt_optimize(xyz.data(), 3, c.n(), c.quads.data(), c.nq(),
+                                           fixed.empty() ? nullptr : fixed.data(), &o, &report);
+  CHECK_MSG(s == QUADOPT_STATUS_OK, c.path << ": " << quadopt_last_error());
+  std::vector<double> xy(2 * c.n());
+  bool z_ok = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    xy[2 * i] = xyz[3 * i];
+    xy[2 * i + 1] = xyz[3 * i + 1];
+    z_ok = z_ok && xyz[3 * i + 2] == -3.25;
+  }
+  CHECK(z_ok);
+  return xy;
+}
+
+/// The properties every result must have.
+void check_result(const Case &c, const std::string &what, const std::vector<double> &out, const QuadoptReport &r,
+                  const std::vector<std::uint8_t> &fixed, bool fixed_boundary) {
+  const std::string tag = c.path + " [" + what + "]";
+  // Corners and fixed vertices: bit-identical.
+  bool corners_ok = true;
+  for (auto v : c.corners) {
+    corners_ok = corners_ok && qt::same_bits(out[2 * v], c.xy[2 * v]) && qt::same_bits(out[2 * v + 1], c.xy[2 * v + 1]);
+  }
+  CHECK_MSG(corners_ok, tag << ": a corner moved");
+  CHECK_MSG(r.corners == c.corners.size(), tag << ": report.corners " << r.corners << ", expected " << c.corners.size());
+  std::size_t n_fixed = 0, n_moved = 0;
+  bool fixed_ok = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const bool same = qt::same_bits(out[2 * i], c.xy[2 * i]) && qt::same_bits(out[2 * i + 1], c.xy[2 * i + 1]);
+    if (!fixed.empty() && fixed[i]) {
+      ++n_fixed;
+      fixed_ok = fixed_ok && same;
+    }
+    if (!same) ++n_moved;
+    if (fixed_boundary && c.on_boundary[i]) fixed_ok = fixed_ok && same;
+  }
+  CHECK_MSG(fixed_ok, tag << ": a fixed vertex moved");
+  CHECK_MSG(n_moved > 0, tag << ": nothing moved");
+  // Boundary vertices stay on their original boundary cycle.
+  double worst = 0;
+  for (const auto &cyc : c.cycles) {
+    for (auto v : cyc) {
+      double d = HUGE_VAL;
+      for (std::size_t i = 0; i < cyc.size(); ++i) {
+        const std::uint32_t a = cyc[i], b = cyc[(i + 1) % cyc.size()];
+        d = std::fmin(d, qt::point_segment_distance(out[2 * v], out[2 * v + 1], c.xy[2 * a], c.xy[2 * a + 1],
+                                                    c.xy[2 * b], c.xy[2 * b + 1]));
+      }
+      worst = std::fmax(worst, d);
+    }
+  }
+  CHECK_MSG(worst <= 1e-9 * c.diag, tag << ": a boundary vertex is " << worst << " off the original boundary");
+  // Quality: the report is what quadopt_quality measures, and the result is better.
+  QuadoptQuality before{}, after{};
+  CHECK(quadopt_quality(c.xy.data(), 2, c.n(), c.quads.data(), c.nq(), &before, nullptr, 0) == QUADOPT_STATUS_OK);
+  CHECK(quadopt_quality(out.data(), 2, c.n(), c.quads.data(), c.nq(), &after, nullptr, 0) == QUADOPT_STATUS_OK);
+  CHECK_MSG(qt::same_bits(r.input.min, before.min) && qt::same_bits(r.input.avg, before.avg) &&
+                r.input.inverted == before.inverted,
+            tag << ": report.input differs from quadopt_quality");
+  CHECK_MSG(qt::same_bits(r.output.min, after.min) && qt::same_bits(r.output.avg, after.avg) &&
+                r.output.inverted == after.inverted,
+            tag << ": report.output differs from quadopt_quality");
+  const bool better = after.inverted < before.inverted || (after.inverted == before.inverted && after.min > before.min);
+  CHECK_MSG(better, tag << ": min " << before.min << " -> " << after.min << ", inverted " << before.inverted << " -> "
+                        << after.inverted);
+  CHECK_MSG(after.inverted == 0, tag << ": " << after.inverted << " quads still inverted");
+  CHECK_MSG(after.avg > before.avg, tag << ": average " << before.avg << " -> " << after.avg);
+  (void)n_fixed;
+}
+
+QuadoptOptions with_boundary(std::uint32_t b) {
+  QuadoptOptions o = quadopt_options_defaults();
+  o.boundary = b;
+  return o;
+}
+
+/// A fixed mask: every third interior vertex and the first vertex of each boundary cycle's
+/// second half.
+std::vector<std::uint8_t> some_fixed(const Case &c) {
+  std::vector<std::uint8_t> f(c.n(), 0);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    if (!c.on_boundary[i] && k++ % 3 == 0) f[i] = 1;
+  }
+  for (const auto &cyc : c.cycles) f[cyc[cyc.size() / 2 + 1]] = 1;
+  return f;
+}
+
+void test_c_api(const Case &c) {
+  const std::uint32_t modes[4] = {QUADOPT_BOUNDARY_AUTO, QUADOPT_BOUNDARY_SLIDE, QUADOPT_BOUNDARY_SNAP,
+                                  QUADOPT_BOUNDARY_FIXED};
+  const char *names[4] = {"auto", "slide", "snap", "fixed"};
+  for (int m = 0; m < 4; ++m) {
+    QuadoptReport r;
+    const auto out = run_c(c, with_boundary(modes[m]), {}, r);
+    check_result(c, std::string("C, ") + names[m], out, r, {}, modes[m] == QUADOPT_BOUNDARY_FIXED);
+    CHECK(r.loops_slide + r.loops_snap + r.loops_fixed == c.cycles.size());
+    if (modes[m] == QUADOPT_BOUNDARY_SLIDE) CHECK(r.loops_slide == c.cycles.size());
+    if (modes[m] == QUADOPT_BOUNDARY_SNAP) CHECK(r.loops_snap == c.cycles.size());
+  }
+  const auto fixed = some_fixed(c);
+  QuadoptReport r;
+  const auto out = run_c(c, quadopt_options_defaults(), fixed, r);
+  check_result(c, "C, fixed mask", out, r, fixed, false);
+  // The C++ wrapper on dim-2 arrays gives the same as the C call on dim-3 arrays.
+  std::vector<double> xy = c.xy;
+  const quadopt::Report rw = quadopt::optimize(xy, 2, c.quads, quadopt::Options(), fixed);
+  CHECK_MSG(qt::same_bits(xy, out), c.path << ": C++ wrapper differs from C at " << qt::first_difference(xy, out));
+  CHECK(rw.iterations == r.iterations && qt::same_bits(rw.final_energy, r.final_energy));
+}
+
+void test_openmesh_adapter(const Case &c) {
+  QuadoptReport ref_r;
+  const auto ref = run_c(c, quadopt_options_defaults(), {}, ref_r);
+
+  // Double points: bit-identical to the C call.
+  OMeshD om = load<OMeshD>(c.path);
+  const quadopt::Report r = quadopt::openmesh::optimize(om);
+  bool same = true, z_same = true;
+  for (auto v : om.vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    same = same && qt::same_bits(om.point(v)[0], ref[2 * i]) && qt::same_bits(om.point(v)[1], ref[2 * i + 1]);
+    z_same = z_same && qt::same_bits(om.point(v)[2], c.xyz[3 * i + 2]);
+  }
+  CHECK_MSG(same, c.path << ": OpenMesh (double) adapter differs from the C call");
+  CHECK(z_same && r.iterations == ref_r.iterations && r.corners == ref_r.corners);
+  const quadopt::Quality q = quadopt::openmesh::quality(om);
+  CHECK(qt::same_bits(q.min, ref_r.output.min) && q.inverted == 0);
+
+  // Float points (OpenMesh's default traits): the C result rounded to float; unmoved vertices
+  // keep their bits (float -> double -> float is exact).
+  OMeshF fm = load<OMeshF>(c.path);
+  quadopt::openmesh::optimize(fm);
+  same = true;
+  for (auto v : fm.vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    same = same && fm.point(v)[0] == static_cast<float>(ref[2 * i]) &&
+           fm.point(v)[1] == static_cast<float>(ref[2 * i + 1]) && fm.point(v)[2] == 0.0f;
+  }
+  CHECK_MSG(same, c.path << ": OpenMesh (float) adapter is not the C result rounded to float");
+
+  // Locked and feature vertices are fixed.
+  const auto mask = some_fixed(c);
+  OMeshD locked = load<OMeshD>(c.path);
+  locked.request_vertex_status();
+  std::vector<std::uint8_t> locked_only(c.n(), 0);
+  int k = 0;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    if (!mask[i]) continue;
+    const OMeshD::VertexHandle vh(static_cast<int>(i));
+    if (k++ % 2 == 0) {
+      locked.status(vh).set_locked(true);
+      locked_only[i] = 1;
+    } else {
+      locked.status(vh).set_feature(true);
+    }
+  }
+  OMeshD locked2 = locked;
+  quadopt::openmesh::optimize(locked);
+  QuadoptReport rr;
+  const auto want = run_c(c, quadopt_options_defaults(), mask, rr);
+  same = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const auto &p = locked.point(OMeshD::VertexHandle(static_cast<int>(i)));
+    same = same && qt::same_bits(p[0], want[2 * i]) && qt::same_bits(p[1], want[2 * i + 1]);
+  }
+  CHECK_MSG(same, c.path << ": locked + feature vertices are not treated as the fixed mask");
+  std::vector<double> got(2 * c.n());
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const auto &p = locked.point(OMeshD::VertexHandle(static_cast<int>(i)));
+    got[2 * i] = p[0];
+    got[2 * i + 1] = p[1];
+  }
+  check_result(c, "OpenMesh locked/feature", got, rr, mask, false);
+  // feature_is_fixed = false: only the locked ones.
+  quadopt::openmesh::MeshOptions mo;
+  mo.feature_is_fixed = false;
+  quadopt::openmesh::optimize(locked2, quadopt::Options(), mo);
+  const auto want2 = run_c(c, quadopt_options_defaults(), locked_only, rr);
+  same = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const auto &p = locked2.point(OMeshD::VertexHandle(static_cast<int>(i)));
+    same = same && qt::same_bits(p[0], want2[2 * i]) && qt::same_bits(p[1], want2[2 * i + 1]);
+  }
+  CHECK_MSG(same, c.path << ": feature_is_fixed = false still fixes feature vertices");
+
+  // Options pass through the adapter.
+  OMeshD slide = load<OMeshD>(c.path);
+  quadopt::openmesh::optimize(slide, quadopt::Options().boundary(quadopt::Boundary::Slide).method(quadopt::Method::Laplacian));
+  QuadoptOptions so = with_boundary(QUADOPT_BOUNDARY_SLIDE);
+  so.method = QUADOPT_METHOD_LAPLACIAN;
+  const auto want3 = run_c(c, so, {}, rr);
+  same = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const auto &p = slide.point(OMeshD::VertexHandle(static_cast<int>(i)));
+    same = same && qt::same_bits(p[0], want3[2 * i]) && qt::same_bits(p[1], want3[2 * i + 1]);
+  }
+  CHECK_MSG(same, c.path << ": options did not reach the library through the OpenMesh adapter");
+}
+
+void test_cgal_adapter(const Case &c) {
+  QuadoptReport ref_r;
+  const auto ref = run_c(c, quadopt_options_defaults(), {}, ref_r);
+
+  // Surface_mesh<Point_3>, z kept.
+  SM3 sm = surface_mesh<SM3>(c.xy, c.quads, [](double x, double y) { return K::Point_3(x, y, 2.5); });
+  const quadopt::Report r = quadopt::cgal::optimize(sm);
+  bool same = true;
+  for (auto v : sm.vertices()) {
+    const auto i = static_cast<std::size_t>(v);
+    same = same && qt::same_bits(sm.point(v).x(), ref[2 * i]) && qt::same_bits(sm.point(v).y(), ref[2 * i + 1]) &&
+           sm.point(v).z() == 2.5;
+  }
+  CHECK_MSG(same, c.path << ": CGAL Point_3 adapter differs from the C call");
+  CHECK(r.iterations == ref_r.iterations && qt::same_bits(quadopt::cgal::quality(sm).min, ref_r.output.min));
+
+  // Surface_mesh<Point_2> of another kernel, with a removed (garbage) vertex in the middle of
+  // the index range: skipped, and the result is unchanged.
+  SM2 sm2;
+  std::vector<SM2::Vertex_index> vs;
+  SM2::Vertex_index extra;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    if (i == c.n() / 2) extra = sm2.add_vertex(Epick::Point_2(1e30, -1e30));
+    vs.push_back(sm2.add_vertex(Epick::Point_2(c.xy[2 * i], c.xy[2 * i + 1])));
+  }
+  for (std::size_t q = 0; q < c.nq(); ++q) {
+    sm2.add_face(vs[c.quads[4 * q]], vs[c.quads[4 * q + 1]], vs[c.quads[4 * q + 2]], vs[c.quads[4 * q + 3]]);
+  }
+  sm2.remove_vertex(extra);
+  CHECK(sm2.has_garbage());
+  quadopt::cgal::optimize(sm2);
+  same = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    same = same && qt::same_bits(sm2.point(vs[i]).x(), ref[2 * i]) && qt::same_bits(sm2.point(vs[i]).y(), ref[2 * i + 1]);
+  }
+  CHECK_MSG(same, c.path << ": CGAL Point_2 adapter (with garbage) differs from the C call");
+
+  // A "v:fixed" property map is the fixed mask.
+  const auto mask = some_fixed(c);
+  SM3 fm = surface_mesh3(c.xy, c.quads);
+  auto fixed_map = fm.add_property_map<SM3::Vertex_index, bool>("v:fixed", false).first;
+  for (std::size_t i = 0; i < c.n(); ++i) fixed_map[SM3::Vertex_index(static_cast<SM3::size_type>(i))] = mask[i] != 0;
+  quadopt::cgal::optimize(fm, quadopt::Options().boundary(quadopt::Boundary::Snap));
+  QuadoptReport rr;
+  const auto want = run_c(c, with_boundary(QUADOPT_BOUNDARY_SNAP), mask, rr);
+  same = true;
+  std::vector<double> got(2 * c.n());
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const auto &p = fm.point(SM3::Vertex_index(static_cast<SM3::size_type>(i)));
+    same = same && qt::same_bits(p.x(), want[2 * i]) && qt::same_bits(p.y(), want[2 * i + 1]);
+    got[2 * i] = p.x();
+    got[2 * i + 1] = p.y();
+  }
+  CHECK_MSG(same, c.path << ": the v:fixed map is not the fixed mask");
+  check_result(c, "CGAL v:fixed, snap", got, rr, mask, false);
+  // Another property name: the map is ignored unless named.
+  SM3 pm = surface_mesh3(c.xy, c.quads);
+  auto pin = pm.add_property_map<SM3::Vertex_index, bool>("v:pinned", false).first;
+  for (std::size_t i = 0; i < c.n(); ++i) pin[SM3::Vertex_index(static_cast<SM3::size_type>(i))] = mask[i] != 0;
+  SM3 pm2 = pm;
+  quadopt::cgal::optimize(pm);  // "v:fixed" absent: nothing fixed
+  quadopt::cgal::MeshOptions cmo;
+  cmo.fixed_property = "v:pinned";
+  quadopt::cgal::optimize(pm2, quadopt::Options(), cmo);
+  const auto want_free = run_c(c, quadopt_options_defaults(), {}, rr);
+  const auto want_pinned = run_c(c, quadopt_options_defaults(), mask, rr);
+  bool same_free = true, same_pinned = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    const SM3::Vertex_index v(static_cast<SM3::size_type>(i));
+    same_free = same_free && qt::same_bits(pm.point(v).x(), want_free[2 * i]);
+    same_pinned = same_pinned && qt::same_bits(pm2.point(v).x(), want_pinned[2 * i]) &&
+                  qt::same_bits(pm2.point(v).y(), want_pinned[2 * i + 1]);
+  }
+  CHECK(same_free && same_pinned);
+}
+
+struct CliCase {
+  const char *args;
+  QuadoptOptions options;
+};
+
+void test_cli(const Case &c) {
+  std::vector<CliCase> cases;
+  QuadoptOptions o = quadopt_options_defaults();
+  cases.push_back({"", o});
+  cases.push_back({"--boundary slide", with_boundary(QUADOPT_BOUNDARY_SLIDE)});
+  cases.push_back({"--boundary snap", with_boundary(QUADOPT_BOUNDARY_SNAP)});
+  o = with_boundary(QUADOPT_BOUNDARY_FIXED);
+  o.method = QUADOPT_METHOD_LAPLACIAN;
+  cases.push_back({"--boundary fixed --method laplace", o});
+  o = quadopt_options_defaults();
+  o.method = QUADOPT_METHOD_COTANGENT;
+  o.max_iterations = 7;
+  cases.push_back({"--method cotan --max-iter 7", o});
+  o = quadopt_options_defaults();
+  o.method = QUADOPT_METHOD_ANGLE_BASED;
+  o.lambda = 0.5;
+  cases.push_back({"--method angle --lambda 0.5", o});
+  o = with_boundary(QUADOPT_BOUNDARY_SLIDE);  // Options::paper() with --boundary slide
+  o.tau = 1e-4;
+  o.tau_absolute = 1;
+  o.guard = 0;
+  o.untangle = 0;
+  o.keep_best = 0;
+  cases.push_back({"--paper --boundary slide", o});
+  o = quadopt_options_defaults();
+  o.guard = 0;
+  o.tau = 1e-9;
+  o.feature_angle_deg = 30;
+  o.max_boundary_deviation = 0.5;
+  cases.push_back({"--no-guard --tau 1e-9 --feature-angle 30 --max-boundary-deviation 0.5", o});
+  o = quadopt_options_defaults();
+  o.guard_floor = 0.2;
+  o.untangle = 0;
+  o.tau_absolute = 1;
+  o.tau = 1e-6;
+  cases.push_back({"--guard-floor 0.2 --no-untangle --absolute-tau --tau 1e-6", o});
+
+  const std::string base = c.path.substr(c.path.rfind('/') + 1);
+  int k = 0;
+  for (const auto &cc : cases) {
+    const std::string out = g_tmp + "/cli_" + base + "_" + std::to_string(k) + ".obj";
+    const std::string json_file = g_tmp + "/cli_" + base + "_" + std::to_string(k) + ".json";
+    ++k;
+    std::remove(out.c_str());
+    const std::string cmd = "\"" + g_cli + "\" optimize \"" + c.path + "\" -o \"" + out + "\" --json " + cc.args;
+    const int rc = qt::run(cmd, json_file);
+    CHECK_MSG(rc == 0, cmd << " exited with " << rc);
+    if (rc != 0) continue;
+    const std::string json = qt::slurp(json_file);
+    const qt::Mesh cli = qt::read_obj(out);
+    QuadoptReport r;
+    const auto mine = run_c(c, cc.options, {}, r);
+    CHECK_MSG(cli.quads == c.quads, cmd << ": the CLI changed the connectivity");
+    const auto cli_xy = cli.xy();
+    CHECK_MSG(qt::same_bits(cli_xy, mine),
+              cmd << ": coordinates differ from the C call, first at index " << qt::first_difference(cli_xy, mine));
+    bool z_zero = true;
+    for (std::size_t i = 0; i < cli.vertices(); ++i) z_zero = z_zero && cli.xyz[3 * i + 2] == 0.0;
+    CHECK(z_zero);
+    CHECK_MSG(qt::json_number(json, "iterations") == static_cast<double>(r.iterations),
+              cmd << ": iterations " << qt::json_number(json, "iterations") << " vs " << r.iterations);
+    CHECK(qt::json_number(json, "corners") == static_cast<double>(r.corners));
+    CHECK(qt::json_number(json, "movable") == static_cast<double>(r.movable));
+    CHECK(qt::same_bits(qt::json_number(json, "min", "output"), r.output.min));
+    CHECK(qt::same_bits(qt::json_number(json, "avg", "output"), r.output.avg));
+    CHECK(qt::same_bits(qt::json_number(json, "min", "input"), r.input.min));
+    CHECK(qt::json_number(json, "inverted", "output") == static_cast<double>(r.output.inverted));
+    CHECK((json.find("\"converged\":true") != std::string::npos) == (r.converged != 0));
+  }
+}
+
+template <class M>
+void expect_non_quad(M &m, const char *what) {
+  const M before = m;
+  bool thrown = false;
+  try {
+    quadopt::openmesh::optimize(m);
+  } catch (const quadopt::NonQuadFace &e) {
+    thrown = e.face() == 2 && e.valence() == 3 && e.status() == QUADOPT_STATUS_INVALID_ARGUMENT &&
+             std::string(e.what()).find("face 2 has 3 vertices") != std::string::npos;
+  }
+  CHECK_MSG(thrown, what << ": no NonQuadFace for the triangle");
+  bool same = true;
+  for (auto v : m.vertices()) same = same && m.point(v) == before.point(v);
+  CHECK(same);
+}
+
+void test_non_quad() {
+  const std::string path = g_data + "/mixed.obj";
+  OMeshD om = load<OMeshD>(path);
+  CHECK(om.n_faces() == 3);
+  expect_non_quad(om, "OpenMesh double");
+  OMeshF fm = load<OMeshF>(path);
+  expect_non_quad(fm, "OpenMesh float");
+  CHECK_THROWS_STATUS(quadopt::openmesh::quality(om), QUADOPT_STATUS_INVALID_ARGUMENT);
+
+  SM3 sm;
+  std::vector<SM3::Vertex_index> v;
+  for (auto p : om.vertices()) v.push_back(sm.add_vertex(K::Point_3(om.point(p)[0], om.point(p)[1], 0)));
+  sm.add_face(v[0], v[1], v[4], v[3]);
+  sm.add_face(v[1], v[2], v[5], v[4]);
+  sm.add_face(v[3], v[4], v[6]);
+  const SM3 before = sm;
+  bool thrown = false;
+  try {
+    quadopt::cgal::optimize(sm);
+  } catch (const quadopt::NonQuadFace &e) {
+    thrown = e.face() == 2 && e.valence() == 3 && std::string(e.what()).find("CGAL face 2") != std::string::npos;
+  }
+  CHECK(thrown);
+  bool same = true;
+  for (auto x : sm.vertices()) same = same && sm.point(x) == before.point(x);
+  CHECK(same);
+
+  // A quad mesh whose fixed flags come with the wrong length.
+  const Case c = load_case("plate_hole.obj");
+  OMeshD plate = load<OMeshD>(c.path);
+  quadopt::openmesh::MeshOptions mo;
+  mo.fixed.assign(3, 1);
+  CHECK_THROWS_STATUS(quadopt::openmesh::optimize(plate, quadopt::Options(), mo), QUADOPT_STATUS_INVALID_ARGUMENT);
+  // Errors from the library surface as quadopt::Error through the adapters.
+  CHECK_THROWS_STATUS(quadopt::openmesh::optimize(plate, quadopt::Options().lambda(2.0)), QUADOPT_STATUS_INVALID_OPTION);
+  SM3 psm = surface_mesh3(c.xy, c.quads);
+  CHECK_THROWS_STATUS(quadopt::cgal::optimize(psm, quadopt::Options().max_iterations(0)), QUADOPT_STATUS_INVALID_OPTION);
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  if (argc < 5) {
+    std::cerr << "usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE|--non-quad\n";
+    return 2;
+  }
+  g_data = argv[1];
+  g_cli = argv[2];
+  g_tmp = argv[3];
+  const std::string which = argv[4];
+  try {
+    if (which == "--non-quad") {
+      test_non_quad();
+    } else {
+      const Case c = load_case(which);
+      CHECK(c.n() > 0 && c.nq() > 0 && !c.cycles.empty() && !c.corners.empty());
+      test_c_api(c);
+      test_openmesh_adapter(c);
+      test_cgal_adapter(c);
+      test_cli(c);
+    }
+  } catch (const std::exception &e) {
+    CHECK_MSG(false, "unexpected exception: " << e.what());
+  }
+  return qt::finish(("mesh_tests " + which).c_str());
+}

@@ -1,0 +1,367 @@
+// quadopt.hpp: header-only C++17 interface to quadopt (a thin layer over quadopt.h).
+//
+//   #include <quadopt.hpp>
+//
+//   std::vector<double> xy = ...;              // 2 (or 3) doubles per vertex
+//   std::vector<std::uint32_t> quads = ...;    // 4 vertex indices per quad
+//   quadopt::Report r = quadopt::optimize(xy, 2, quads,
+//       quadopt::Options().boundary(quadopt::Boundary::Slide).max_iterations(500));
+//
+// Every failure throws quadopt::Error, which carries the C status code and the library's
+// detailed message. Adapters for mesh libraries live in <quadopt/openmesh.hpp> and
+// <quadopt/cgal.hpp>; include them only if you use those libraries.
+//
+// Thread safety: every function may be called from several threads at once; an Optimizer may
+// be shared by threads (optimize() is const) as long as each thread passes its own coordinates.
+#ifndef QUADOPT_HPP
+#define QUADOPT_HPP
+
+#include "quadopt.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace quadopt {
+
+/// The C status codes (QUADOPT_STATUS_*).
+using Status = QuadoptStatus;
+/// Quality statistics of a mesh: min, avg, max scaled Jacobian and the inverted count.
+using Quality = QuadoptQuality;
+/// What a run did (see QuadoptReport in quadopt.h).
+using Report = QuadoptReport;
+/// What the progress callback receives after every sweep.
+using Progress = QuadoptProgress;
+
+/// The library version as a string, e.g. "0.1.0".
+inline const char *version() noexcept { return quadopt_version(); }
+
+/// The static description of a status code (any integer is accepted).
+inline const char *status_string(int status) noexcept { return quadopt_status_string(status); }
+
+/// A failed quadopt call: the status code and the detailed message of quadopt_last_error().
+class Error : public std::runtime_error {
+ public:
+  /// An error with `status` and `message` (what() is "<status string>: <message>").
+  Error(Status status, const std::string &message)
+      : std::runtime_error(compose(status, message)), status_(status), message_(message) {}
+
+  /// The C status code.
+  Status status() const noexcept { return status_; }
+  /// The detailed message alone (without the status description).
+  const std::string &message() const noexcept { return message_; }
+
+ private:
+  static std::string compose(Status status, const std::string &message) {
+    std::string s = quadopt_status_string(static_cast<int>(status));
+    if (!message.empty()) {
+      s += ": ";
+      s += message;
+    }
+    return s;
+  }
+  Status status_;
+  std::string message_;
+};
+
+/// Thrown by the mesh adapters for a face that is not a quad (status
+/// QUADOPT_STATUS_INVALID_ARGUMENT): quadopt optimizes pure quad meshes only.
+class NonQuadFace : public Error {
+ public:
+  /// Face `face` (the mesh library's face index) has `valence` vertices.
+  NonQuadFace(std::size_t face, std::size_t valence, const std::string &library)
+      : Error(QUADOPT_STATUS_INVALID_ARGUMENT,
+              library + " face " + std::to_string(face) + " has " + std::to_string(valence) +
+                  " vertices; quadopt optimizes pure quad meshes only"),
+        face_(face),
+        valence_(valence) {}
+  /// The face's index in the mesh.
+  std::size_t face() const noexcept { return face_; }
+  /// Its number of vertices.
+  std::size_t valence() const noexcept { return valence_; }
+
+ private:
+  std::size_t face_;
+  std::size_t valence_;
+};
+
+/// Throws Error(status, quadopt_last_error()) unless status is QUADOPT_STATUS_OK.
+inline void check(Status status) {
+  if (status != QUADOPT_STATUS_OK) {
+    const char *msg = quadopt_last_error();
+    throw Error(status, msg ? msg : "");
+  }
+}
+
+/// Interior smoothing method.
+enum class Method : std::uint32_t {
+  EmbeddedPolygon = QUADOPT_METHOD_EMBEDDED_POLYGON,  ///< the paper's method (default)
+  Laplacian = QUADOPT_METHOD_LAPLACIAN,               ///< uniform Laplacian
+  Cotangent = QUADOPT_METHOD_COTANGENT,               ///< cotangent-weighted Laplacian
+  AngleBased = QUADOPT_METHOD_ANGLE_BASED,            ///< Xu and Newman's angle-based smoothing
+};
+
+/// Boundary treatment (corners and fixed vertices never move).
+enum class Boundary : std::uint32_t {
+  Auto = QUADOPT_BOUNDARY_AUTO,    ///< the better of Slide and Snap, per loop (default)
+  Fixed = QUADOPT_BOUNDARY_FIXED,  ///< boundary vertices never move
+  Slide = QUADOPT_BOUNDARY_SLIDE,  ///< move along the original boundary polyline
+  Snap = QUADOPT_BOUNDARY_SNAP,    ///< bisect, then project back onto the original boundary
+};
+
+/// Optimization options: the library's defaults, changed by chainable setters.
+///
+///   quadopt::Options o = quadopt::Options().method(quadopt::Method::Laplacian).tau(1e-9);
+///
+/// A progress callback may be any callable `bool(const quadopt::Progress&)`; returning false
+/// cancels the run (status QUADOPT_STATUS_CANCELLED, coordinates untouched). An exception
+/// thrown by the callback cancels the run too and is rethrown to the caller of optimize().
+class Options {
+ public:
+  /// A callable receiving progress; return false to cancel.
+  using ProgressFn = std::function<bool(const Progress &)>;
+
+  /// The library's defaults, filled by quadopt_options_init() for this header's struct size
+  /// (safe when the program runs against another version of the library).
+  Options() : raw_() { check(quadopt_options_init(&raw_, sizeof raw_)); }
+  /// Takes a C options struct as it is (its progress callback included).
+  explicit Options(const QuadoptOptions &raw) : raw_(raw) {}
+
+  /// Interior smoothing method.
+  Options &method(Method m) { raw_.method = static_cast<std::uint32_t>(m); return *this; }
+  /// Boundary treatment.
+  Options &boundary(Boundary b) { raw_.boundary = static_cast<std::uint32_t>(b); return *this; }
+  /// Iteration cap (>= 1).
+  Options &max_iterations(std::uint32_t n) { raw_.max_iterations = n; return *this; }
+  /// Step factor, in (0, 1].
+  Options &lambda(double v) { raw_.lambda = v; return *this; }
+  /// Stopping threshold on the energy change (per movable vertex unless tau_absolute).
+  Options &tau(double v) { raw_.tau = v; return *this; }
+  /// Compare tau with the absolute energy change, as the paper does.
+  Options &tau_absolute(bool on) { raw_.tau_absolute = on ? 1 : 0; return *this; }
+  /// Boundary vertices turning by more than this (degrees, [0, 180]) are corners.
+  Options &feature_angle_deg(double v) { raw_.feature_angle_deg = v; return *this; }
+  /// Guarded moves on or off.
+  Options &guard(bool on) { raw_.guard = on ? 1 : 0; return *this; }
+  /// The guard's floor, in (0, 1].
+  Options &guard_floor(double v) { raw_.guard_floor = v; return *this; }
+  /// Untangle inverted quads first.
+  Options &untangle(bool on) { raw_.untangle = on ? 1 : 0; return *this; }
+  /// Return the best iterate seen rather than the last one.
+  Options &keep_best(bool on) { raw_.keep_best = on ? 1 : 0; return *this; }
+  /// Largest boundary deviation relative to the edge length; negative: unlimited.
+  Options &max_boundary_deviation(double v) { raw_.max_boundary_deviation = v; return *this; }
+  /// A progress callback (an empty function removes it).
+  Options &progress(ProgressFn fn) {
+    progress_ = std::move(fn);
+    raw_.progress = nullptr;
+    raw_.progress_user_data = nullptr;
+    return *this;
+  }
+
+  /// The C struct (without the C++ progress callback, which only the call helpers install).
+  const QuadoptOptions &raw() const noexcept { return raw_; }
+  /// The C struct, for fields this wrapper has no setter for.
+  QuadoptOptions &raw() noexcept { return raw_; }
+  /// The C++ progress callback, if any.
+  const ProgressFn &progress_fn() const noexcept { return progress_; }
+
+ private:
+  QuadoptOptions raw_;
+  ProgressFn progress_;
+};
+
+namespace detail {
+
+/// Runs a C call with `options`, routing a C++ progress callback through a C trampoline that
+/// never lets an exception cross into the library.
+template <class Call>
+Status with_options(const Options &options, Call &&call) {
+  if (!options.progress_fn()) {
+    return call(&options.raw());
+  }
+  struct Ctx {
+    const Options::ProgressFn *fn;
+    std::exception_ptr error;
+  } ctx{&options.progress_fn(), nullptr};
+  QuadoptOptions raw = options.raw();
+  raw.progress = [](const QuadoptProgress *p, void *user) -> bool {
+    Ctx *c = static_cast<Ctx *>(user);
+    try {
+      return (*c->fn)(*p);
+    } catch (...) {
+      c->error = std::current_exception();
+      return false;
+    }
+  };
+  raw.progress_user_data = &ctx;
+  Status s = call(&raw);
+  if (ctx.error) {
+    std::rethrow_exception(ctx.error);
+  }
+  return s;
+}
+
+/// A zeroed report with this header's struct_size (what quadopt_report_init() returns, without
+/// returning a struct by value across a library of possibly another version).
+inline Report new_report() noexcept {
+  Report r{};
+  r.struct_size = static_cast<std::uint32_t>(sizeof r);
+  return r;
+}
+
+inline std::size_t vertex_count(std::size_t coords, std::uint32_t dim) {
+  if (dim != 2 && dim != 3) {
+    throw Error(QUADOPT_STATUS_INVALID_ARGUMENT, "dimension " + std::to_string(dim) + " is not 2 or 3");
+  }
+  if (coords % dim != 0) {
+    throw Error(QUADOPT_STATUS_INVALID_ARGUMENT, std::to_string(coords) +
+                                                     " coordinates are not a whole number of " +
+                                                     std::to_string(dim) + "-D points");
+  }
+  return coords / dim;
+}
+
+inline std::size_t quad_count(std::size_t indices) {
+  if (indices % 4 != 0) {
+    throw Error(QUADOPT_STATUS_INVALID_ARGUMENT,
+                std::to_string(indices) + " quad indices are not a multiple of 4");
+  }
+  return indices / 4;
+}
+
+inline const std::uint8_t *fixed_ptr(const std::vector<std::uint8_t> &fixed, std::size_t n) {
+  if (fixed.empty()) {
+    return nullptr;
+  }
+  if (fixed.size() != n) {
+    throw Error(QUADOPT_STATUS_INVALID_ARGUMENT, std::to_string(fixed.size()) + " fixed flags for " +
+                                                     std::to_string(n) + " vertices");
+  }
+  return fixed.data();
+}
+
+}  // namespace detail
+
+/// Optimizes `coords` (`dim` = 2 or 3 doubles per vertex; x and y are moved, z is untouched)
+/// in place. `quads` holds 4 indices per quad; `fixed` is empty or holds one flag per vertex
+/// (nonzero: the vertex never moves). Throws Error on failure, leaving `coords` untouched.
+inline Report optimize(double *coords, std::uint32_t dim, std::size_t vertex_count,
+                       const std::uint32_t *quads, std::size_t quad_count,
+                       const std::uint8_t *fixed = nullptr, const Options &options = Options()) {
+  Report report = detail::new_report();
+  check(detail::with_options(options, [&](const QuadoptOptions *o) {
+    return quadopt_optimize(coords, dim, vertex_count, quads, quad_count, fixed, o, &report);
+  }));
+  return report;
+}
+
+/// optimize() on vectors: `coords.size()` must be a multiple of `dim`, `quads.size()` of 4.
+inline Report optimize(std::vector<double> &coords, std::uint32_t dim, const std::vector<std::uint32_t> &quads,
+                       const Options &options = Options(), const std::vector<std::uint8_t> &fixed = {}) {
+  const std::size_t n = detail::vertex_count(coords.size(), dim);
+  return optimize(coords.data(), dim, n, quads.data(), detail::quad_count(quads.size()),
+                  detail::fixed_ptr(fixed, n), options);
+}
+
+/// Quality statistics of a mesh; fills `per_quad` (resized to the quad count) with each quad's
+/// signed scaled Jacobian when it is given. Throws Error on an invalid mesh.
+inline Quality quality(const double *coords, std::uint32_t dim, std::size_t vertex_count,
+                       const std::uint32_t *quads, std::size_t quad_count,
+                       std::vector<double> *per_quad = nullptr) {
+  Quality q{};
+  std::vector<double> values(per_quad ? quad_count : 0);
+  check(quadopt_quality(coords, dim, vertex_count, quads, quad_count, &q, per_quad ? values.data() : nullptr,
+                        values.size()));
+  if (per_quad) {
+    per_quad->swap(values);  // only on success: on error *per_quad is untouched
+  }
+  return q;
+}
+
+/// quality() on vectors.
+inline Quality quality(const std::vector<double> &coords, std::uint32_t dim, const std::vector<std::uint32_t> &quads,
+                       std::vector<double> *per_quad = nullptr) {
+  return quality(coords.data(), dim, detail::vertex_count(coords.size(), dim), quads.data(),
+                 detail::quad_count(quads.size()), per_quad);
+}
+
+/// A reusable optimizer: the connectivity (and the fixed flags) validated and its topology
+/// built once, for optimizing many coordinate sets of the same mesh. Move-only; the handle is
+/// freed by the destructor. optimize() is const and may run on several threads at once.
+class Optimizer {
+ public:
+  /// Validates the mesh (`coords` are used for validation and orientation) and builds the
+  /// topology. Throws Error on an invalid mesh.
+  Optimizer(const double *coords, std::uint32_t dim, std::size_t vertex_count, const std::uint32_t *quads,
+            std::size_t quad_count, const std::uint8_t *fixed = nullptr)
+      : dim_(dim), vertex_count_(vertex_count) {
+    check(quadopt_optimizer_create(coords, dim, vertex_count, quads, quad_count, fixed, &handle_));
+  }
+
+  /// The same from vectors.
+  Optimizer(const std::vector<double> &coords, std::uint32_t dim, const std::vector<std::uint32_t> &quads,
+            const std::vector<std::uint8_t> &fixed = {})
+      : dim_(dim), vertex_count_(detail::vertex_count(coords.size(), dim)) {
+    check(quadopt_optimizer_create(coords.data(), dim, vertex_count_, quads.data(),
+                                   detail::quad_count(quads.size()), detail::fixed_ptr(fixed, vertex_count_),
+                                   &handle_));
+  }
+
+  Optimizer(const Optimizer &) = delete;
+  Optimizer &operator=(const Optimizer &) = delete;
+  /// Takes over `other`'s handle; `other` becomes empty.
+  Optimizer(Optimizer &&other) noexcept
+      : handle_(std::exchange(other.handle_, nullptr)), dim_(other.dim_), vertex_count_(other.vertex_count_) {}
+  /// Frees this handle and takes over `other`'s.
+  Optimizer &operator=(Optimizer &&other) noexcept {
+    if (this != &other) {
+      quadopt_optimizer_free(handle_);
+      handle_ = std::exchange(other.handle_, nullptr);
+      dim_ = other.dim_;
+      vertex_count_ = other.vertex_count_;
+    }
+    return *this;
+  }
+  ~Optimizer() { quadopt_optimizer_free(handle_); }
+
+  /// Optimizes `coords` (`dim` doubles per vertex, `vertex_count` vertices: the same count as
+  /// at construction) in place. Throws Error on failure (an empty, moved-from optimizer gives
+  /// QUADOPT_STATUS_NULL_POINTER), leaving `coords` untouched.
+  Report optimize(double *coords, std::uint32_t dim, std::size_t vertex_count, const Options &options = Options()) const {
+    Report report = detail::new_report();
+    check(detail::with_options(options, [&](const QuadoptOptions *o) {
+      return quadopt_optimizer_optimize(handle_, coords, dim, vertex_count, o, &report);
+    }));
+    return report;
+  }
+
+  /// The same on a vector with the dimension given at construction.
+  Report optimize(std::vector<double> &coords, const Options &options = Options()) const {
+    return optimize(coords.data(), dim_, detail::vertex_count(coords.size(), dim_), options);
+  }
+
+  /// The C handle (owned by this object); null after a move.
+  const QuadoptOptimizer *get() const noexcept { return handle_; }
+  /// Whether this object holds a handle.
+  explicit operator bool() const noexcept { return handle_ != nullptr; }
+  /// The dimension given at construction.
+  std::uint32_t dim() const noexcept { return dim_; }
+  /// The vertex count given at construction.
+  std::size_t vertex_count() const noexcept { return vertex_count_; }
+
+ private:
+  QuadoptOptimizer *handle_ = nullptr;
+  std::uint32_t dim_ = 2;
+  std::size_t vertex_count_ = 0;
+};
+
+}  // namespace quadopt
+
+#endif  // QUADOPT_HPP

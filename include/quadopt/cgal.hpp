@@ -1,0 +1,182 @@
+// quadopt/cgal.hpp: optimize a CGAL::Surface_mesh of quads in place.
+//
+//   #include <CGAL/Simple_cartesian.h>
+//   #include <CGAL/Surface_mesh.h>
+//   #include <quadopt/cgal.hpp>
+//
+//   CGAL::Surface_mesh<CGAL::Simple_cartesian<double>::Point_2> mesh = ...;
+//   quadopt::Report r = quadopt::cgal::optimize(mesh);   // throws quadopt::Error
+//
+// Points may be Point_2 or Point_3 of any kernel (exact ones are converted with
+// CGAL::to_double and written back from doubles). With Point_3 the mesh must lie in a plane
+// z = const: x and y are optimized and z is kept. Only vertices whose position changed are
+// written back, so fixed vertices, corners and vertices that did not move stay bit-identical.
+//
+// Fixed vertices: a vertex property map of bool named MeshOptions::fixed_property ("v:fixed"
+// by default), if the mesh has one; true means the vertex never moves. Removed (garbage)
+// vertices and faces are skipped. Only pure quad meshes are accepted: another face throws
+// quadopt::NonQuadFace.
+#ifndef QUADOPT_CGAL_HPP
+#define QUADOPT_CGAL_HPP
+
+#include "../quadopt.hpp"
+
+#include <CGAL/Dimension.h>
+#include <CGAL/Kernel_traits.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/number_utils.h>
+#include <CGAL/version.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace quadopt {
+namespace cgal {
+
+/// How the adapter reads a Surface_mesh.
+struct MeshOptions {
+  /// Name of a vertex property map of bool marking fixed vertices (ignored when absent; empty
+  /// for none).
+  std::string fixed_property = "v:fixed";
+};
+
+/// The flat arrays quadopt takes, read from a mesh (vertices in the mesh's iteration order,
+/// removed ones skipped).
+template <class P>
+struct Arrays {
+  /// The mesh's vertices, in the order of `xy`.
+  std::vector<typename CGAL::Surface_mesh<P>::Vertex_index> vertices;
+  /// x, y of every vertex.
+  std::vector<double> xy;
+  /// 4 indices into `vertices` per face, in the mesh's face order.
+  std::vector<std::uint32_t> quads;
+  /// One flag per vertex (nonzero: fixed); empty when no vertex is fixed.
+  std::vector<std::uint8_t> fixed;
+};
+
+namespace detail {
+
+template <class P>
+bool find_fixed_map(const CGAL::Surface_mesh<P> &mesh, const std::string &name,
+                    typename CGAL::Surface_mesh<P>::template Property_map<typename CGAL::Surface_mesh<P>::Vertex_index, bool> &out) {
+  using Mesh = CGAL::Surface_mesh<P>;
+  if (name.empty()) {
+    return false;
+  }
+#if CGAL_VERSION_NR >= 1060000000
+  auto found = mesh.template property_map<typename Mesh::Vertex_index, bool>(name);
+  if (!found) {
+    return false;
+  }
+  out = *found;
+  return true;
+#else
+  auto found = mesh.template property_map<typename Mesh::Vertex_index, bool>(name);
+  if (!found.second) {
+    return false;
+  }
+  out = found.first;
+  return true;
+#endif
+}
+
+template <class P>
+P with_xy(const P &p, double x, double y) {
+  using FT = typename CGAL::Kernel_traits<P>::Kernel::FT;
+  if constexpr (CGAL::Ambient_dimension<P>::value == 2) {
+    (void)p;
+    return P(FT(x), FT(y));
+  } else {
+    return P(FT(x), FT(y), p.z());
+  }
+}
+
+}  // namespace detail
+
+/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad.
+template <class P>
+Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = MeshOptions()) {
+  using Mesh = CGAL::Surface_mesh<P>;
+  using V = typename Mesh::Vertex_index;
+  const std::size_t n = mesh.number_of_vertices();
+  if (n > static_cast<std::size_t>(std::numeric_limits<std::uint32_t>::max())) {
+    throw Error(QUADOPT_STATUS_INVALID_ARGUMENT, "the mesh has more vertices than 32-bit indices can address");
+  }
+  Arrays<P> a;
+  // Index by the vertex's index in the mesh (removed vertices included), mapping to the
+  // compact position in `a.vertices`.
+  std::vector<std::uint32_t> compact(mesh.num_vertices(), 0);
+  a.vertices.reserve(n);
+  a.xy.reserve(2 * n);
+  for (V v : mesh.vertices()) {
+    compact[static_cast<std::size_t>(v)] = static_cast<std::uint32_t>(a.vertices.size());
+    a.vertices.push_back(v);
+    const P &p = mesh.point(v);
+    a.xy.push_back(CGAL::to_double(p.x()));
+    a.xy.push_back(CGAL::to_double(p.y()));
+  }
+  a.quads.reserve(4 * mesh.number_of_faces());
+  for (auto f : mesh.faces()) {
+    const std::size_t valence = mesh.degree(f);
+    if (valence != 4) {
+      throw NonQuadFace(static_cast<std::size_t>(f), valence, "CGAL");
+    }
+    for (V v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      a.quads.push_back(compact[static_cast<std::size_t>(v)]);
+    }
+  }
+  typename Mesh::template Property_map<V, bool> fixed_map;
+  if (detail::find_fixed_map(mesh, mo.fixed_property, fixed_map)) {
+    bool any = false;
+    std::vector<std::uint8_t> fixed(a.vertices.size(), 0);
+    for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+      fixed[i] = get(fixed_map, a.vertices[i]) ? 1 : 0;
+      any = any || fixed[i] != 0;
+    }
+    if (any) {
+      a.fixed = std::move(fixed);
+    }
+  }
+  return a;
+}
+
+/// Writes optimized coordinates back: only vertices whose x or y changed are set.
+template <class P>
+void write_back(CGAL::Surface_mesh<P> &mesh, const Arrays<P> &a, const std::vector<double> &xy) {
+  for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+    if (xy[2 * i] == a.xy[2 * i] && xy[2 * i + 1] == a.xy[2 * i + 1]) {
+      continue;
+    }
+    P &p = mesh.point(a.vertices[i]);
+    p = detail::with_xy(p, xy[2 * i], xy[2 * i + 1]);
+  }
+}
+
+/// Optimizes `mesh` in place and returns the report. Throws Error (NonQuadFace for a face that
+/// is not a quad) and leaves the mesh unchanged on any failure.
+template <class P>
+Report optimize(CGAL::Surface_mesh<P> &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
+  const Arrays<P> a = to_arrays(mesh, mo);
+  std::vector<double> xy = a.xy;
+  Report r = quadopt::optimize(xy, 2, a.quads, options, a.fixed);
+  write_back(mesh, a, xy);
+  return r;
+}
+
+/// Quality statistics of `mesh` (and each face's scaled Jacobian in `per_quad`, in face
+/// iteration order, when given).
+template <class P>
+Quality quality(const CGAL::Surface_mesh<P> &mesh, std::vector<double> *per_quad = nullptr) {
+  MeshOptions mo;
+  mo.fixed_property.clear();
+  const Arrays<P> a = to_arrays(mesh, mo);
+  return quadopt::quality(a.xy, 2, a.quads, per_quad);
+}
+
+}  // namespace cgal
+}  // namespace quadopt
+
+#endif  // QUADOPT_CGAL_HPP

@@ -46,3 +46,8 @@ pub use mesh::QuadMesh;
 pub use quality::QualityStats;
 pub use smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, optimize};
 pub use topology::Topology;
+
+/// The README's Rust example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -9,22 +9,11 @@
 //! untangling) with the better of its two boundary approaches, the default must be at least
 //! as good on minimum and average on most meshes; the table is printed (`--nocapture`).
 
+mod common;
+use common::Rng;
 use quadopt::features::Features;
 use quadopt::topology::Topology;
 use quadopt::{BoundaryMode, DVec2, Options, QuadMesh, QualityStats, optimize};
-
-/// Deterministic pseudo-random numbers in [-1, 1) (SplitMix64).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
 
 /// Structured grid on the given x and y coordinates, without the quads `skip` rejects.
 fn grid(xs: &[f64], ys: &[f64], skip: impl Fn(usize, usize) -> bool) -> (Vec<DVec2>, Vec<[u32; 4]>) {

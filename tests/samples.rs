@@ -22,6 +22,8 @@
 //! Every property is checked on every run before failing, so one failure lists them all; the
 //! quality table is printed (`cargo test --release --test samples -- --nocapture`).
 
+mod common;
+use common::Rng;
 use quadopt::features::Features;
 use quadopt::io::{self, PlanarMesh};
 use quadopt::topology::Topology;
@@ -317,19 +319,6 @@ fn samples_are_as_poor_as_the_papers_inputs() {
         let mut outer = outer.to_vec();
         outer.sort_unstable();
         assert_eq!(pinned, outer, "{name}: the fixed vertices are not the outer boundary loop");
-    }
-}
-
-/// Deterministic pseudo-random numbers in [-1, 1) (SplitMix64).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
 }
 

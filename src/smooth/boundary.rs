@@ -251,6 +251,11 @@ pub fn update(
     let (a, b) = geometry.loop_slots(l);
     let count = b - a;
     let len = geometry.loop_length[l];
+    if len <= 0.0 || !len.is_finite() {
+        // A loop of zero length (one vertex, or all vertices at one point: the unwrapping
+        // below would never end) or of overflowing length (its arclengths are meaningless).
+        return (p, s, energy);
+    }
     let k = slot - a;
     let prev_slot = a + (k + count - 1) % count;
     let next_slot = a + (k + 1) % count;
@@ -265,7 +270,8 @@ pub fn update(
     }
     let margin = MARGIN * (s_next - s_prev);
     let (lo, hi) = (s_prev + margin, s_next - margin);
-    if lo >= hi || lo.is_nan() {
+    if lo >= hi || lo.is_nan() || hi.is_nan() {
+        // NaN on either side would make `clamp` below panic.
         return (p, s, energy);
     }
 
@@ -280,6 +286,9 @@ pub fn update(
         }
         BoundaryMode::Snap => geometry.project(l, rotated, lo, hi),
     };
+    if target.is_nan() {
+        return (p, s, energy);
+    }
     let target = target.clamp(lo, hi);
     let mut s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi);
     if let Some(tol) = max_deviation {

@@ -77,6 +77,11 @@ pub fn measure(g: &BoundaryGeometry, params: &[f64], mean_edge: f64) -> Boundary
     for l in 0..g.loop_count() {
         let (a, b) = g.loop_slots(l);
         let len = g.loop_length(l);
+        if len <= 0.0 || !len.is_finite() {
+            // Nothing on a loop of zero (or overflowing) length can move, and unwrapping the
+            // arclengths below would never end.
+            continue;
+        }
         for k in a..b {
             let next = if k + 1 < b { k + 1 } else { a };
             let s0 = params[k];

@@ -645,7 +645,9 @@ impl RunContext<'_> {
                 ),
             };
             let p = points[v];
-            (p + opts.lambda * (target - p), 0.0, energy)
+            let moved = p + opts.lambda * (target - p);
+            // Next to coordinates near f64::MAX a target can overflow: then the vertex stays.
+            (if moved.is_finite() { moved } else { p }, 0.0, energy)
         };
         if !opts.guard || target == points[v] {
             return Update { vertex: v as u32, position: target, param, energy };

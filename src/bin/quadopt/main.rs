@@ -404,10 +404,7 @@ fn cmd_quality(input: &Path, as_json: bool) -> Result<(), Fail> {
         return Ok(());
     }
     outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
-    outln!(
-        "scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted",
-        s.min, s.avg, s.max, s.inverted
-    );
+    outln!("scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
     let most = h.iter().copied().max().unwrap_or(1).max(1);
     for (i, &count) in h.iter().enumerate() {
         let label = if i == 0 {
@@ -583,7 +580,14 @@ fn run_data_dir() -> Result<(), Fail> {
     );
     outln!(
         "{:28} {:>7} {:>7}  {:>23}  {:>23}  {:>9} {:>6} {:>8}",
-        "model", "#V", "#F", "input min/avg/max", "output min/avg/max", "inverted", "iters", "time (s)"
+        "model",
+        "#V",
+        "#F",
+        "input min/avg/max",
+        "output min/avg/max",
+        "inverted",
+        "iters",
+        "time (s)"
     );
     let mut failed = 0;
     for path in &files {

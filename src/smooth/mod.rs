@@ -14,7 +14,8 @@
 //!    its change per movable vertex falls below `tau` (independent of mesh size), or with
 //!    `tau_absolute` when |E_new - E_old| < tau as in the paper; or at the iteration cap;
 //! 4. returns the best iterate seen (the input included), ranked by inverted count, then
-//!    minimum scaled Jacobian, then average ([`QualityStats::better_than`]).
+//!    minimum scaled Jacobian, then average, among those with no more inverted quads, no quad
+//!    inverted that was valid in the input, and a minimum not below the input's.
 //!
 //! With [`BoundaryMode::Auto`] both boundary approaches are run and the better result kept,
 //! refined per boundary loop on small meshes.
@@ -372,7 +373,8 @@ impl Optimizer {
             });
         }
         let start = Instant::now();
-        let input = mesh.quality();
+        let input_values = mesh.quality_values();
+        let input = QualityStats::from_values(&input_values);
         let features = Features::new(mesh, topo, options.feature_angle_deg, options.boundary);
         let geometry = BoundaryGeometry::new(mesh.points(), topo, &features);
         let loops = topo.loop_count();
@@ -383,6 +385,7 @@ impl Optimizer {
             options,
             quads: mesh.quads(),
             input,
+            input_inverted: input_values.iter().map(|&v| v <= 0.0).collect(),
             floor: options.guard_floor.max(input.min),
         };
 
@@ -436,6 +439,8 @@ struct RunContext<'a> {
     options: &'a Options,
     quads: &'a [[u32; 4]],
     input: QualityStats,
+    /// Per quad: inverted (scaled Jacobian <= 0) in the input.
+    input_inverted: Vec<bool>,
     /// The guard's floor for this run.
     floor: f64,
 }
@@ -446,6 +451,13 @@ const AUTO_MAX_LOOPS: usize = 12;
 const AUTO_MAX_VERTICES: usize = 50_000;
 
 impl RunContext<'_> {
+    /// Whether per-quad `values` invert a quad that was valid in the input. Such an iterate is
+    /// never returned, so no quad that was valid ends inverted, even while untangling trades
+    /// one inversion for another on a mesh that stays tangled.
+    fn inverts_a_valid_quad(&self, values: &[f64]) -> bool {
+        self.input.inverted > 0 && values.iter().zip(&self.input_inverted).any(|(&v, &was)| v <= 0.0 && !was)
+    }
+
     /// `Auto`: slide and snap for the whole mesh, keep the better; then on small meshes try
     /// switching each loop to the other approach, keeping every switch that improves. Loops
     /// where no vertex may move are reported as fixed and never tried both ways (slide and
@@ -519,7 +531,7 @@ impl RunContext<'_> {
         let mut best_points = start.to_vec();
         let mut best_params = params.clone();
         let current = stats_of(&points, self.quads, &mut scratch);
-        if improves(&current, &best_stats, &self.input) {
+        if !self.inverts_a_valid_quad(&scratch) && improves(&current, &best_stats, &self.input) {
             best_stats = current;
             best_points.copy_from_slice(&points);
         }
@@ -558,7 +570,7 @@ impl RunContext<'_> {
                 initial_energy = energy;
             }
             let stats = stats_of(&points, self.quads, &mut scratch);
-            if improves(&stats, &best_stats, &self.input) {
+            if !self.inverts_a_valid_quad(&scratch) && improves(&stats, &best_stats, &self.input) {
                 best_stats = stats;
                 best_points.copy_from_slice(&points);
                 best_params.copy_from_slice(&params);

@@ -327,7 +327,7 @@ fn samples_are_as_poor_as_the_papers_inputs() {
 fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> QuadMesh {
     let mut rng = Rng(seed);
     let mut points = mesh.points().to_vec();
-    for v in 0..points.len() {
+    for (v, point) in points.iter_mut().enumerate() {
         if topo.kind(v) != quadopt::topology::VertexKind::Interior || mesh.fixed()[v] {
             continue;
         }
@@ -337,7 +337,7 @@ fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> QuadMes
             .iter()
             .map(|&u| (mesh.points()[u as usize] - p).length())
             .fold(f64::INFINITY, f64::min);
-        points[v] = p + amount * h * DVec2::new(rng.next(), rng.next());
+        *point = p + amount * h * DVec2::new(rng.next(), rng.next());
     }
     QuadMesh::new(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
 }

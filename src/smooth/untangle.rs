@@ -179,7 +179,9 @@ fn inverse3(a: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     ];
     let det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
     let norm: f64 = a.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
-    if !(det.abs() > 1e-12 * norm.powi(3)) {
+    // Written so that a NaN determinant is rejected too.
+    let regular = det.abs() > 1e-12 * norm.powi(3);
+    if !regular {
         return None;
     }
     // inverse = adjugate / det, adjugate = transposed cofactors.

@@ -95,6 +95,10 @@ typedef enum QuadoptStatus {
      * Reserved: the mesh is not planar. Not returned by this version (z is ignored).
      */
     QUADOPT_STATUS_NOT_PLANAR = 13,
+    /**
+     * An allocation that grows with the input failed; nothing was written.
+     */
+    QUADOPT_STATUS_OUT_OF_MEMORY = 14,
 } QuadoptStatus;
 
 /**

@@ -44,6 +44,9 @@ pub enum Error {
         "the mesh is not planar: vertex {vertex} is {distance:e} away from the best-fit plane (tolerance {tolerance:e})"
     )]
     NotPlanar { vertex: usize, distance: f64, tolerance: f64 },
+    /// An allocation that grows with the input failed (or its size overflowed).
+    #[error("out of memory: cannot allocate {bytes} bytes for {what}")]
+    OutOfMemory { what: &'static str, bytes: u128 },
 }
 
 /// Shorthand for results of this crate.

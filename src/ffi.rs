@@ -69,6 +69,8 @@ pub enum QuadoptStatus {
     Panic = 12,
     /// Reserved: the mesh is not planar. Not returned by this version (z is ignored).
     NotPlanar = 13,
+    /// An allocation that grows with the input failed; nothing was written.
+    OutOfMemory = 14,
 }
 
 /// Interior smoothing method, stored as a `uint32_t` in `QuadoptOptions::method`.
@@ -281,6 +283,7 @@ fn status_of(e: &Error) -> QuadoptStatus {
         Error::VertexCountMismatch { .. } => QuadoptStatus::Mismatch,
         Error::InvalidOption { .. } => QuadoptStatus::InvalidOption,
         Error::NotPlanar { .. } => QuadoptStatus::NotPlanar,
+        Error::OutOfMemory { .. } => QuadoptStatus::OutOfMemory,
     }
 }
 
@@ -735,6 +738,7 @@ fn status_name(status: i32) -> &'static CStr {
         11 => c"cancelled",
         12 => c"internal error (panic)",
         13 => c"not planar",
+        14 => c"out of memory",
         _ => c"unknown status",
     }
 }

@@ -28,6 +28,7 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod alloc;
 pub mod error;
 pub mod features;
 /// The C ABI (`include/quadopt.h`): the only module with `unsafe` code.

@@ -243,7 +243,7 @@ typedef struct QuadoptOptions {
      */
     double lambda;
     /**
-     * Stopping threshold on the energy change between sweeps, finite and >= 0: per movable
+     * Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
      * vertex, or absolute when `tau_absolute` is set (default 1e-7).
      */
     double tau;
@@ -279,9 +279,9 @@ typedef struct QuadoptOptions {
      */
     uint8_t keep_best;
     /**
-     * Reserved; set to 0. Ignored by this version.
+     * When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
      */
-    uint32_t reserved0;
+    uint32_t stop_rule;
     /**
      * Progress callback, or NULL for none (default NULL).
      */

@@ -20,7 +20,7 @@
 use crate::error::Error;
 use crate::mesh::QuadMesh;
 use crate::quality::QualityStats;
-use crate::smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report};
+use crate::smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, StopRule};
 use glam::DVec2;
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_void};
@@ -102,6 +102,18 @@ pub enum QuadoptBoundary {
     Snap = 3,
 }
 
+/// When a run stops, stored as a `uint32_t` in `QuadoptOptions::stop_rule`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QuadoptStopRule {
+    /// When the collective energy changes by less than `tau` (per movable vertex, or
+    /// absolute with `tau_absolute`), as in the paper.
+    Energy = 0,
+    /// When the result stops improving: two sweeps in a row that lower no inverted count and
+    /// raise the minimum scaled Jacobian by at most 1e-3 and the average by at most 1e-4.
+    Quality = 1,
+}
+
 /// Progress of a run, passed to the progress callback after every sweep.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,7 +157,7 @@ pub struct QuadoptOptions {
     pub max_iterations: u32,
     /// Step factor, in (0, 1] (default 1).
     pub lambda: f64,
-    /// Stopping threshold on the energy change between sweeps, finite and >= 0: per movable
+    /// Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
     /// vertex, or absolute when `tau_absolute` is set (default 1e-7).
     pub tau: f64,
     /// Boundary vertices turning by more than this many degrees are corners and never move,
@@ -165,8 +177,8 @@ pub struct QuadoptOptions {
     pub untangle: u8,
     /// Nonzero: return the best iterate seen instead of the last one (default 1).
     pub keep_best: u8,
-    /// Reserved; set to 0. Ignored by this version.
-    pub reserved0: u32,
+    /// When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
+    pub stop_rule: u32,
     /// Progress callback, or NULL for none (default NULL).
     pub progress: QuadoptProgressFn,
     /// Passed unchanged to `progress` (default NULL).
@@ -551,12 +563,18 @@ fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         3 => BoundaryMode::Snap,
         b => return Err(bad("boundary", format!("{b} is not a QuadoptBoundary (0 to 3)"))),
     };
+    let stop = match o.stop_rule {
+        0 => StopRule::Energy,
+        1 => StopRule::Quality,
+        r => return Err(bad("stop_rule", format!("{r} is not a QuadoptStopRule (0 or 1)"))),
+    };
     let max_boundary_deviation =
         if o.max_boundary_deviation < 0.0 { None } else { Some(o.max_boundary_deviation) };
     let options = Options {
         method,
         boundary,
         lambda: o.lambda,
+        stop,
         tau: o.tau,
         tau_absolute: o.tau_absolute != 0,
         max_iterations: o.max_iterations as usize,
@@ -668,7 +686,7 @@ fn default_options() -> QuadoptOptions {
         guard: u8::from(d.guard),
         untangle: u8::from(d.untangle),
         keep_best: u8::from(d.keep_best),
-        reserved0: 0,
+        stop_rule: QuadoptStopRule::Energy as u32,
         progress: None,
         progress_user_data: std::ptr::null_mut(),
     }
@@ -1392,7 +1410,6 @@ mod tests {
         let (coords, quads) = patch(2);
         let mut options = Newer { v1: fixed_boundary_options(), extra: [u64::MAX; 4] };
         options.v1.struct_size = size_of::<Newer<QuadoptOptions>>() as u32;
-        options.v1.reserved0 = 0xFFFF_FFFF; // ignored by this version
         let mut report = Newer { v1: sentinel_report(), extra: [0x1234_5678; 4] };
         report.v1.struct_size = size_of::<Newer<QuadoptReport>>() as u32;
         let mut c = coords.clone();
@@ -1427,6 +1444,7 @@ mod tests {
         let (coords, quads) = patch(2);
         let mut calls: Vec<QuadoptProgress> = Vec::new();
         let o = QuadoptOptions {
+            stop_rule: QuadoptStopRule::Energy as u32,
             tau: 0.0, // never converges: the callback decides
             progress: Some(cancel_at_third),
             progress_user_data: (&raw mut calls).cast(),
@@ -1632,14 +1650,14 @@ mod tests {
             // SAFETY: quadopt_status_string returns a static C string.
             unsafe { CStr::from_ptr(quadopt_status_string(s)) }.to_str().unwrap().to_owned()
         };
-        let known: Vec<String> = (0..=13).map(name).collect();
+        let known: Vec<String> = (0..=14).map(name).collect();
         assert_eq!(known[0], "ok");
         assert_eq!(known[11], "cancelled");
         let mut unique = known.clone();
         unique.sort();
         unique.dedup();
-        assert_eq!(unique.len(), 14, "status strings must be distinct");
-        for s in [-1, 14, i32::MIN, i32::MAX] {
+        assert_eq!(unique.len(), 15, "status strings must be distinct");
+        for s in [-1, 15, i32::MIN, i32::MAX] {
             assert_eq!(name(s), "unknown status");
         }
         assert_eq!(QuadoptStatus::NotPlanar as i32, 13);

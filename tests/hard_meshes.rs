@@ -30,7 +30,8 @@ fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
 
 fn check_preserved(name: &str, before: &QuadMesh, after: &QuadMesh, options: &Options) {
     let topo = Topology::new(before);
-    let features = Features::new(before, &topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(before, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     let (lo, hi) = before
         .points()
         .iter()

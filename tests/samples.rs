@@ -62,7 +62,8 @@ fn preservation_failures(
     if before.quads() != after.quads() {
         fails.push("topology changed".to_string());
     }
-    let features = Features::new(before, topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(before, topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     let (lo, hi) = before
         .points()
         .iter()
@@ -224,7 +225,8 @@ fn the_checks_detect_violations() {
     let (_, mesh, _) = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/plate_1hole.vtk"));
     let options = Options::default();
     let topo = Topology::new(&mesh);
-    let features = Features::new(&mesh, &topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(&mesh, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     assert!(preservation_failures(&mesh, &mesh.clone(), &topo, &options).is_empty());
     let outer = topo.boundary_loop(0);
     let corner = *outer.iter().find(|&&v| features.is_corner(v as usize)).unwrap() as usize;

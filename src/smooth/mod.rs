@@ -108,6 +108,8 @@ impl Optimizer {
             (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
         };
 
+        // Once, for the kept pass: it costs as much as the targets of a sweep.
+        let final_energy = ctx.energy(&pass.points);
         let mean_edge = mean_edge_length(mesh.points(), mesh.quads());
         let fidelity = fidelity::measure(&geometry, &pass.params, mean_edge);
         mesh.points_mut().copy_from_slice(&pass.points);
@@ -118,15 +120,20 @@ impl Optimizer {
             untangle_sweeps: pass.untangle_sweeps,
             converged: pass.converged,
             cancelled: pass.cancelled,
-            initial_energy: pass.initial_energy,
-            final_energy: pass.final_energy,
+            initial_energy: pass.initial_energy.unwrap_or(final_energy),
+            final_energy,
             seconds: start.elapsed().as_secs_f64(),
             reoriented_quads: mesh.reoriented().len(),
             corners: features.corner_count(),
             movable: features.movable_vertices().len(),
             loop_modes,
             fidelity,
-            tangled: untangle::diagnose(mesh.points(), mesh.quads(), topo, &features),
+            // The statistics already say whether there is anything to diagnose.
+            tangled: if pass.stats.inverted == 0 {
+                Vec::new()
+            } else {
+                untangle::diagnose(mesh.points(), mesh.quads(), topo, &features)
+            },
         })
     }
 }

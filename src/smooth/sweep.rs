@@ -42,8 +42,8 @@ pub struct Pass {
     pub untangle_sweeps: usize,
     pub converged: bool,
     pub cancelled: bool,
-    pub initial_energy: f64,
-    pub final_energy: f64,
+    /// Collective energy measured during the first sweep (`None` without sweeps).
+    pub initial_energy: Option<f64>,
 }
 
 /// Everything a pass reads besides the positions.
@@ -160,7 +160,6 @@ impl RunContext<'_> {
             best_points = points;
             best_params = params;
         }
-        let final_energy = self.energy(&best_points);
         Pass {
             points: best_points,
             params: best_params,
@@ -169,15 +168,14 @@ impl RunContext<'_> {
             untangle_sweeps,
             converged,
             cancelled,
-            initial_energy: if initial_energy.is_nan() { final_energy } else { initial_energy },
-            final_energy,
+            initial_energy: (!initial_energy.is_nan()).then_some(initial_energy),
         }
     }
 
     /// Collective energy of the movable interior vertices at `points` (boundary vertices
     /// contribute their one angle inside the sweep; here only the interior part is needed
     /// for reporting the result).
-    fn energy(&self, points: &[DVec2]) -> f64 {
+    pub fn energy(&self, points: &[DVec2]) -> f64 {
         self.features
             .movable_vertices()
             .iter()

@@ -382,6 +382,19 @@ pub fn untangle(
     max_sweeps: usize,
     keep_going: &mut dyn FnMut() -> bool,
 ) -> Untangled {
+    untangle_checking_every(points, quads, topo, features, max_sweeps, keep_going, CHECK_INTERVAL)
+}
+
+/// [`untangle`], calling `keep_going` inside a sweep once `interval` has passed.
+fn untangle_checking_every(
+    points: &mut [DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    features: &Features,
+    max_sweeps: usize,
+    keep_going: &mut dyn FnMut() -> bool,
+    interval: Duration,
+) -> Untangled {
     let mut moves: Vec<(u32, DVec2)> = Vec::new();
     let mut last_call = Instant::now();
     let apply = |points: &mut [DVec2], moves: &[(u32, DVec2)]| {
@@ -410,7 +423,7 @@ pub fn untangle(
                     }
                     untangle_vertex(snapshot, quads, topo, vu).map(|p| (v, p))
                 }));
-                if !rest.is_empty() && last_call.elapsed() >= CHECK_INTERVAL {
+                if !rest.is_empty() && last_call.elapsed() >= interval {
                     last_call = Instant::now();
                     if !keep_going() {
                         apply(points, &moves);
@@ -582,6 +595,72 @@ mod tests {
         for (l, e) in f.iter().zip(direct) {
             assert!((l.at(frame.local(v)) * 16.0 - e).abs() < 1e-12, "{} vs {e}", l.at(frame.local(v)));
         }
+    }
+
+    /// Smallest corner value (cross product) of the quads at `v`.
+    fn star_min_corner(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> f64 {
+        let mut f = Vec::new();
+        star_corners(points, quads, topo, v, IDENTITY, &mut f);
+        f.iter().map(|l| l.at(points[v])).fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn a_cancel_inside_a_sweep_keeps_the_moves_of_the_chunks_done() {
+        // A tangled grid of 90k quads: each colour class spans several chunks.
+        let mesh =
+            crate::synthetic::Synthetic { nx: 300, ny: 300, holes: 0, jitter: 0.45, ..Default::default() }
+                .generate();
+        let topo = Topology::new(&mesh);
+        let features = Features::new(&mesh, &topo, 45.0, crate::BoundaryMode::Fixed);
+        let quads = mesh.quads();
+        let first_chunk = chunk_len(&topo, topo.colour_class(0));
+        assert!(first_chunk < topo.colour_class(0).len());
+        // Without a cancel: called after every chunk but the last of each class, and after
+        // every sweep.
+        let mut points = mesh.points().to_vec();
+        let mut calls = 0;
+        let done = untangle_checking_every(
+            &mut points,
+            quads,
+            &topo,
+            &features,
+            1,
+            &mut || {
+                calls += 1;
+                true
+            },
+            Duration::ZERO,
+        );
+        let chunks: usize = (0..topo.colour_count())
+            .map(|c| {
+                let (mut rest, mut count) = (topo.colour_class(c), 0);
+                while !rest.is_empty() {
+                    rest = &rest[chunk_len(&topo, rest)..];
+                    count += 1;
+                }
+                count - 1
+            })
+            .sum();
+        assert_eq!((done, calls), (Untangled { sweeps: 1, cancelled: false }, chunks + 1));
+        // Cancelled at the first call, after the first chunk: only that chunk's vertices
+        // moved, each raising its star's smallest corner.
+        let mut points = mesh.points().to_vec();
+        let done =
+            untangle_checking_every(&mut points, quads, &topo, &features, 10, &mut || false, Duration::ZERO);
+        assert_eq!(done, Untangled { sweeps: 1, cancelled: true });
+        let chunk = &topo.colour_class(0)[..first_chunk];
+        let mut moved = 0;
+        for v in 0..points.len() {
+            if points[v] == mesh.points()[v] {
+                continue;
+            }
+            moved += 1;
+            assert!(chunk.contains(&(v as u32)), "vertex {v} moved outside the first chunk");
+            let (before, after) =
+                (star_min_corner(mesh.points(), quads, &topo, v), star_min_corner(&points, quads, &topo, v));
+            assert!(after > before, "vertex {v}: {before} -> {after}");
+        }
+        assert!(moved > 0);
     }
 
     #[test]

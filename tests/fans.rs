@@ -135,9 +135,9 @@ fn check_colours(t: &Topology, quads: &[[u32; 4]]) {
             colour[v as usize] = c;
         }
     }
-    for v in 0..t.vertex_count() {
+    for (v, &c) in colour.iter().enumerate() {
         let ringed = matches!(t.kind(v), VertexKind::Interior | VertexKind::Boundary);
-        assert_eq!(colour[v] != usize::MAX, ringed, "vertex {v}");
+        assert_eq!(c != usize::MAX, ringed, "vertex {v}");
     }
     for q in quads {
         for i in 0..4 {

@@ -130,6 +130,9 @@ const TOL: f64 = 1e-12;
 /// practically never reached; it makes the worst case linear too (giving up means no move).
 const WORK_PER_ROW: usize = 200;
 
+/// Evaluations between two calls of the solver's `go_on` (well under a millisecond).
+const WORK_PER_CHECK: usize = 1 << 16;
+
 /// One constraint t <= a . u + b of the normalized program.
 #[derive(Clone, Copy, Debug)]
 struct Row {
@@ -148,7 +151,19 @@ struct Row {
 /// constraint, bounded by [`WORK_PER_ROW`]. The program is first moved to the box's centre
 /// and scaled to unit size, values to unit size too, so the tolerances are relative and the
 /// result does not depend on the coordinates' scale.
+#[cfg(test)]
 fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
+    max_min_interruptible(f, lo, hi, &mut || true)
+}
+
+/// [`max_min`], calling `go_on` every [`WORK_PER_CHECK`] evaluations and giving up (`None`)
+/// once it returns false.
+fn max_min_interruptible(
+    f: &[Linear],
+    lo: DVec2,
+    hi: DVec2,
+    go_on: &mut dyn FnMut() -> bool,
+) -> Option<(DVec2, f64)> {
     if f.is_empty() || !(lo.is_finite() && hi.is_finite()) || lo.cmpgt(hi).any() {
         return None;
     }
@@ -177,7 +192,7 @@ fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
     // No position does better than the smallest of the rows' maxima over the box.
     let t_max = rows.iter().map(|r| r.b + r.a.abs().dot(w)).fold(f64::INFINITY, f64::min);
     let mut program =
-        Program { order: shuffled(rows.len()), rows, w, t_max, work: WORK_PER_ROW * (f.len() + 4) };
+        Program { order: shuffled(rows.len()), rows, w, t_max, work: WORK_PER_ROW * (f.len() + 4), go_on };
     let u = program.solve()?.clamp(-w, w);
     let v = (centre + size * u).clamp(lo, hi);
     finite((v, value_at(v)))
@@ -201,18 +216,24 @@ fn shuffled(n: usize) -> Vec<u32> {
 
 /// The normalized program of [`max_min`]: maximize t subject to t <= a . u + b for every row,
 /// t <= t_max and |u| <= w componentwise. Ties are broken towards larger x, then larger y.
-struct Program {
+struct Program<'a> {
     rows: Vec<Row>,
     order: Vec<u32>,
     w: DVec2,
     t_max: f64,
     /// Constraint evaluations left.
     work: usize,
+    /// Asked every [`WORK_PER_CHECK`] evaluations whether to go on.
+    go_on: &'a mut dyn FnMut() -> bool,
 }
 
-impl Program {
+impl Program<'_> {
     fn spend(&mut self, amount: usize) -> Option<()> {
-        self.work = self.work.checked_sub(amount)?;
+        let left = self.work.checked_sub(amount)?;
+        if left / WORK_PER_CHECK != self.work / WORK_PER_CHECK && !(self.go_on)() {
+            return None;
+        }
+        self.work = left;
         Some(())
     }
 
@@ -269,7 +290,7 @@ impl Program {
     /// half-planes 0..count; `None` if the line is degenerate.
     fn on_line(&self, r: Row, n: DVec2, c: f64, count: usize) -> Option<DVec2> {
         let nn = n.length_squared();
-        if !(nn > 1e-300) {
+        if nn.is_nan() || nn <= 1e-300 {
             return None;
         }
         let d = n.perp() / nn.sqrt();
@@ -329,6 +350,18 @@ pub(crate) fn untangle_vertex(
     topo: &Topology,
     v: usize,
 ) -> Option<DVec2> {
+    untangle_vertex_interruptible(points, quads, topo, v, &mut || true)
+}
+
+/// [`untangle_vertex`], its solver asking `go_on` regularly whether to go on (`None` once it
+/// says no).
+fn untangle_vertex_interruptible(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    go_on: &mut dyn FnMut() -> bool,
+) -> Option<DVec2> {
     // Search box: the bounding box of the neighbours, shrunk by 10% towards its centre so an
     // optimum on the box (when the star cannot be fully untangled from here) never lands
     // exactly on a neighbour's coordinates and degenerates an edge.
@@ -348,7 +381,7 @@ pub(crate) fn untangle_vertex(
     let p = frame.local(points[v]);
     let current = f.iter().map(|l| l.at(p)).fold(f64::INFINITY, f64::min);
     let w = half / scale;
-    let (best, value) = max_min(&f, -w, w)?;
+    let (best, value) = max_min_interruptible(&f, -w, w, go_on)?;
     let moved = frame.global(best);
     (value > current && moved.is_finite()).then_some(moved)
 }
@@ -371,8 +404,8 @@ const CHUNK_QUADS: usize = 1 << 14;
 
 /// Untangles in place, sweeping at most `max_sweeps` times; only movable interior vertices
 /// move. `keep_going` is called on the calling thread after every sweep and, inside a sweep,
-/// every [`CHECK_INTERVAL`] or so (a single vertex's program is linear in its quad count, so
-/// a cancel takes effect within that much work); once it returns false untangling stops,
+/// every [`CHECK_INTERVAL`] or so: between chunks of about [`CHUNK_QUADS`] quads, and during
+/// the solve of a vertex with more quads than that. Once it returns false untangling stops,
 /// keeping the moves done so far (each of which raised its star's smallest corner value).
 pub fn untangle(
     points: &mut [DVec2],
@@ -413,22 +446,44 @@ fn untangle_checking_every(
                 // No vertex of a class is in another's star, so the moves of a class can be
                 // found in parallel from the same positions and applied afterwards.
                 let snapshot: &[DVec2] = points;
-                moves.par_extend(chunk.par_iter().filter_map(|&v| {
+                let wanted = |v: u32| {
                     let vu = v as usize;
-                    if !features.is_movable(vu) || topo.kind(vu) != VertexKind::Interior {
-                        return None;
+                    features.is_movable(vu)
+                        && topo.kind(vu) == VertexKind::Interior
+                        && star_is_tangled(snapshot, quads, topo, vu)
+                };
+                let mut cancelled = false;
+                if chunk.len() == 1 && topo.quad_count(chunk[0] as usize) >= CHUNK_QUADS {
+                    // One large star: solved on this thread, so the caller can be asked during
+                    // the solve.
+                    let v = chunk[0];
+                    let mut go_on = || {
+                        if last_call.elapsed() < interval {
+                            return true;
+                        }
+                        last_call = Instant::now();
+                        cancelled = !keep_going();
+                        !cancelled
+                    };
+                    if wanted(v) {
+                        let found =
+                            untangle_vertex_interruptible(snapshot, quads, topo, v as usize, &mut go_on);
+                        moves.extend(found.map(|p| (v, p)));
                     }
-                    if !star_is_tangled(snapshot, quads, topo, vu) {
-                        return None;
-                    }
-                    untangle_vertex(snapshot, quads, topo, vu).map(|p| (v, p))
-                }));
-                if !rest.is_empty() && last_call.elapsed() >= interval {
+                } else {
+                    moves.par_extend(
+                        chunk.par_iter().filter(|&&v| wanted(v)).filter_map(|&v| {
+                            untangle_vertex(snapshot, quads, topo, v as usize).map(|p| (v, p))
+                        }),
+                    );
+                }
+                if !cancelled && !rest.is_empty() && last_call.elapsed() >= interval {
                     last_call = Instant::now();
-                    if !keep_going() {
-                        apply(points, &moves);
-                        return Untangled { sweeps: sweep + 1, cancelled: true };
-                    }
+                    cancelled = !keep_going();
+                }
+                if cancelled {
+                    apply(points, &moves);
+                    return Untangled { sweeps: sweep + 1, cancelled: true };
                 }
             }
             apply(points, &moves);
@@ -500,6 +555,7 @@ pub fn diagnose(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     /// Constraint rows a . (x, y, t) <= b of the program: t - g . v <= c for each f, then the
     /// four sides of the box.
@@ -661,6 +717,57 @@ mod tests {
             assert!(after > before, "vertex {v}: {before} -> {after}");
         }
         assert!(moved > 0);
+    }
+
+    #[test]
+    fn the_solve_of_a_large_star_can_be_cancelled() {
+        // A fan of 30k quads (more than a chunk) around vertex 0, its centre pushed outside.
+        let n = 30_000u32;
+        let mut points = vec![DVec2::new(2.0, 0.3)];
+        for i in 0..n {
+            let (a, d) = (TAU * i as f64 / n as f64, TAU * (i as f64 + 0.5) / n as f64);
+            points.push(DVec2::new(a.cos(), a.sin()));
+            points.push(DVec2::new(d.cos(), d.sin()) * 1.5);
+        }
+        let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
+        let mesh = crate::QuadMesh::new(points, quads, None).unwrap();
+        let topo = Topology::new(&mesh);
+        let features = Features::new(&mesh, &topo, 45.0, crate::BoundaryMode::Fixed);
+        assert!(topo.quad_count(0) > CHUNK_QUADS && features.is_movable(0));
+        assert_eq!(topo.colour_class(0), &[0]);
+        // Asked regularly and never stopped: untangled in one sweep.
+        let mut points = mesh.points().to_vec();
+        let mut calls = 0;
+        let mut count = || {
+            calls += 1;
+            true
+        };
+        let done = untangle_checking_every(
+            &mut points,
+            mesh.quads(),
+            &topo,
+            &features,
+            5,
+            &mut count,
+            Duration::ZERO,
+        );
+        assert_eq!(done, Untangled { sweeps: 1, cancelled: false });
+        assert!(calls > 1, "{calls} calls");
+        assert!(mesh.quads().iter().all(|q| scaled_jacobian(&corners(&points, q)) > 0.0));
+        // The centre is alone in the first colour class, so without a look at the clock inside
+        // its solve the first call would come after its move. Stopped there: nothing moved.
+        let mut points = mesh.points().to_vec();
+        let done = untangle_checking_every(
+            &mut points,
+            mesh.quads(),
+            &topo,
+            &features,
+            5,
+            &mut || false,
+            Duration::ZERO,
+        );
+        assert_eq!(done, Untangled { sweeps: 1, cancelled: true });
+        assert_eq!(points, mesh.points());
     }
 
     #[test]

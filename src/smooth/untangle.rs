@@ -125,7 +125,7 @@ fn star_corners(
 /// values of at most 1 on it): a constraint within this much of holding is taken as holding.
 const TOL: f64 = 1e-12;
 
-/// Work (constraint evaluations) allowed per constraint before [`max_min`] gives up. The
+/// Work (constraint evaluations) allowed per constraint before the solver gives up. The
 /// randomized incremental solver needs about ten per constraint on average, so the budget is
 /// practically never reached; it makes the worst case linear too (giving up means no move).
 const WORK_PER_ROW: usize = 200;
@@ -140,6 +140,12 @@ struct Row {
     b: f64,
 }
 
+/// [`max_min_interruptible`] never interrupted.
+#[cfg(test)]
+fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
+    max_min_interruptible(f, lo, hi, &mut || true)
+}
+
 /// Position maximizing the smallest of `f` inside the box [lo, hi], and that smallest value
 /// (evaluated at the position returned).
 ///
@@ -151,13 +157,9 @@ struct Row {
 /// constraint, bounded by [`WORK_PER_ROW`]. The program is first moved to the box's centre
 /// and scaled to unit size, values to unit size too, so the tolerances are relative and the
 /// result does not depend on the coordinates' scale.
-#[cfg(test)]
-fn max_min(f: &[Linear], lo: DVec2, hi: DVec2) -> Option<(DVec2, f64)> {
-    max_min_interruptible(f, lo, hi, &mut || true)
-}
-
-/// [`max_min`], calling `go_on` every [`WORK_PER_CHECK`] evaluations and giving up (`None`)
-/// once it returns false.
+///
+/// `go_on` is called every [`WORK_PER_CHECK`] evaluations; the solver gives up (`None`) once
+/// it returns false.
 fn max_min_interruptible(
     f: &[Linear],
     lo: DVec2,

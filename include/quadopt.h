@@ -176,11 +176,12 @@ typedef uint32_t QuadoptBoundary;
 typedef struct QuadoptOptimizer QuadoptOptimizer;
 
 /**
- * Progress of a run, passed to the progress callback after every sweep.
+ * Progress of a run, passed to the progress callback after every sweep (and regularly while
+ * untangling, with `iteration` 0 and NaN energies).
  */
 typedef struct QuadoptProgress {
     /**
-     * Sweeps done so far in the current pass (1-based).
+     * Sweeps done so far in the current pass (1-based; 0 while untangling).
      */
     size_t iteration;
     /**

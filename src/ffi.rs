@@ -114,11 +114,12 @@ pub enum QuadoptStopRule {
     Quality = 1,
 }
 
-/// Progress of a run, passed to the progress callback after every sweep.
+/// Progress of a run, passed to the progress callback after every sweep (and regularly while
+/// untangling, with `iteration` 0 and NaN energies).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuadoptProgress {
-    /// Sweeps done so far in the current pass (1-based).
+    /// Sweeps done so far in the current pass (1-based; 0 while untangling).
     pub iteration: usize,
     /// The iteration cap of a pass.
     pub max_iterations: usize,
@@ -1452,9 +1453,10 @@ mod tests {
         };
         assert_eq!(optimize_status(&coords, 2, &quads, None, Some(&o)), QuadoptStatus::Cancelled);
         assert_eq!(calls.len(), 3);
-        assert_eq!(calls.iter().map(|p| p.iteration).collect::<Vec<_>>(), [1, 2, 3]);
+        // The patch has an inverted quad: the first call comes from untangling (iteration 0).
+        assert_eq!(calls.iter().map(|p| p.iteration).collect::<Vec<_>>(), [0, 1, 2]);
         assert!(calls.iter().all(|p| p.pass == 1 && p.passes == 1 && p.max_iterations == 1000));
-        assert!(last_error().contains("cancelled by the progress callback at pass 1 of 1, iteration 3"));
+        assert!(last_error().contains("cancelled by the progress callback at pass 1 of 1, iteration 2"));
         // The same callback under the automatic mode, which plans several passes.
         calls.clear();
         let o = QuadoptOptions { boundary: QuadoptBoundary::Auto as u32, ..o };

@@ -8,7 +8,7 @@ use crate::quality::QualityStats;
 /// Progress of a run, passed to the progress callback after every sweep.
 #[derive(Clone, Copy, Debug)]
 pub struct Progress {
-    /// Sweeps done so far in the current pass.
+    /// Sweeps done so far in the current pass (0 while untangling, with NaN energies).
     pub iteration: usize,
     /// The iteration cap.
     pub max_iterations: usize,

@@ -81,9 +81,21 @@ impl RunContext<'_> {
         let mut points = start.to_vec();
         let mut params = self.geometry.initial_params();
         let mut values = Vec::with_capacity(self.quads.len());
-        let mut untangle_sweeps = 0;
+        let (mut untangle_sweeps, mut cancelled) = (0, false);
         if opts.untangle && self.input.inverted > 0 {
-            untangle_sweeps = untangle::untangle(&mut points, self.quads, self.topo, self.features, 200);
+            // Untangling reports iteration 0 (no smoothing sweep done yet) and no energy.
+            let p = Progress {
+                iteration: 0,
+                max_iterations: opts.max_iterations,
+                energy: f64::NAN,
+                energy_change: f64::NAN,
+                pass,
+                passes,
+            };
+            let mut keep_going = || progress.as_mut().is_none_or(|cb| cb(&p));
+            let u =
+                untangle::untangle(&mut points, self.quads, self.topo, self.features, 200, &mut keep_going);
+            (untangle_sweeps, cancelled) = (u.sweeps, u.cancelled);
         }
         let mut best_stats = self.input;
         let mut best_points = start.to_vec();
@@ -100,8 +112,8 @@ impl RunContext<'_> {
             (0..self.topo.colour_count()).map(|c| self.topo.colour_class(c).len()).max().unwrap_or(0);
         let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
         let mut initial_energy = f64::NAN;
-        let (mut iterations, mut converged, mut cancelled) = (0, false, false);
-        while iterations < opts.max_iterations {
+        let (mut iterations, mut converged) = (0, false);
+        while iterations < opts.max_iterations && !cancelled {
             let mut energy = 0.0;
             for c in 0..self.topo.colour_count() {
                 let class = self.topo.colour_class(c);

@@ -27,6 +27,7 @@ pub mod energy;
 pub mod fidelity;
 pub mod guard;
 pub mod laplacian;
+pub mod maxmin;
 pub mod untangle;
 
 use crate::error::{Error, Result};

@@ -1,0 +1,553 @@
+//! The max-min stage: raises the worst quad as far as moving single vertices can.
+//!
+//! The embedded-polygon fixed point is not a max-min optimum, and the guard only keeps each
+//! star above a floor, so after the sweeps the worst quad can usually still be improved. This
+//! stage works on the vertices of the worst quads (those within `region_delta` of the current
+//! global minimum) and moves each to a position that maximizes the minimum scaled Jacobian of
+//! its star (its incident quads), Gauss-Seidel, colour class by colour class:
+//!
+//! - interior vertices by a local max-min solver ([`LocalSolver`]): a DMO-style nested grid
+//!   search (Zint and Grosso, IMR 2018), Freitag and Plassmann's active-set ascent (2000), or
+//!   the grid followed by the active-set polish;
+//! - movable boundary vertices by a nested 1-D search along their ORIGINAL polyline between
+//!   the arclengths of their two boundary neighbours, so they stay on the original boundary.
+//!
+//! A move is taken only when the star's minimum strictly rises and no quad of the star that is
+//! valid becomes inverted, so the global minimum never falls. Among the positions evaluated
+//! whose star minimum is within `avg_tolerance` of the best one, the one with the highest star
+//! average is taken, so the average is not given away for a negligible gain of the minimum.
+//! A class is evaluated in parallel (its vertices share no quad, so each reads only positions
+//! no other one changes) and applied in order: the result does not depend on the thread count.
+//! Rounds repeat until the global minimum stops rising; when it stalls the region grows (the
+//! threshold doubles, up to `max_region_delta`) before the stage gives up.
+
+use super::boundary::BoundaryGeometry;
+use crate::features::Features;
+use crate::quality::{QualityStats, corners, scaled_jacobian};
+use crate::topology::Topology;
+use glam::DVec2;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Keep at least this fraction of the neighbour-to-neighbour arclength between a boundary
+/// vertex and each of its boundary neighbours (as the boundary sweeps do).
+const BOUNDARY_MARGIN: f64 = 0.05;
+
+/// How an interior vertex's best position is searched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LocalSolver {
+    /// DMO's nested grid: `grid_size` x `grid_size` candidates in a box of half the star's
+    /// extent around the vertex, re-centred on the best one and shrunk to two cells,
+    /// `grid_levels` times.
+    Grid,
+    /// Freitag and Plassmann's active-set method: ascend along the minimum-norm element of the
+    /// convex hull of the active corners' gradients, with the step predicted from where
+    /// another corner becomes active, halved until the star minimum rises.
+    ActiveSet,
+    /// The nested grid, then the active-set ascent from its best point.
+    #[default]
+    GridActiveSet,
+}
+
+/// Settings of the max-min stage.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaxMinSettings {
+    /// Interior solver.
+    pub solver: LocalSolver,
+    /// Candidates per axis of the nested grid (>= 2).
+    pub grid_size: usize,
+    /// Refinement levels of the nested grid (>= 1).
+    pub grid_levels: usize,
+    /// Iteration cap of the active-set ascent.
+    pub active_set_iterations: usize,
+    /// Samples per level of the boundary 1-D search (>= 2).
+    pub boundary_samples: usize,
+    /// Initial region: the vertices of quads whose scaled Jacobian is below the global minimum
+    /// plus this.
+    pub region_delta: f64,
+    /// The region's threshold grows (doubling) up to this when the minimum stalls.
+    pub max_region_delta: f64,
+    /// Positions whose star minimum is within this of the best one found count as equal, and
+    /// the highest star average among them is taken (0: the best minimum only).
+    pub avg_tolerance: f64,
+    /// A round whose global-minimum gain is below this counts as a stall.
+    pub min_gain: f64,
+    /// Round cap.
+    pub max_rounds: usize,
+    /// Move movable boundary vertices (along the original boundary) as well as interior ones.
+    pub boundary: bool,
+}
+
+impl Default for MaxMinSettings {
+    fn default() -> Self {
+        MaxMinSettings {
+            solver: LocalSolver::default(),
+            grid_size: 8,
+            grid_levels: 3,
+            active_set_iterations: 30,
+            boundary_samples: 16,
+            region_delta: 0.05,
+            max_region_delta: 0.4,
+            avg_tolerance: 1e-4,
+            min_gain: 1e-5,
+            max_rounds: 200,
+            boundary: true,
+        }
+    }
+}
+
+/// What the stage did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaxMinReport {
+    /// Quality when the stage started.
+    pub before: QualityStats,
+    /// Quality when it ended.
+    pub after: QualityStats,
+    /// Rounds (Gauss-Seidel passes over the region) performed.
+    pub rounds: usize,
+    /// Vertex moves taken.
+    pub moves: usize,
+    /// Global minimum scaled Jacobian before the first round and after every round
+    /// (non-decreasing).
+    pub history: Vec<f64>,
+    /// Whether the callback cancelled the stage.
+    pub cancelled: bool,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// The quads around one vertex, with the vertex's corner index in each.
+struct Star {
+    quads: Vec<([DVec2; 4], usize)>,
+    /// Whether each quad is valid (scaled Jacobian > 0) at the current position.
+    valid: Vec<bool>,
+}
+
+/// Star minimum and average at one position; `min` is -inf when a valid quad would invert.
+#[derive(Clone, Copy, Debug)]
+struct Value {
+    min: f64,
+    avg: f64,
+}
+
+impl Star {
+    fn new(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> Star {
+        let quads: Vec<([DVec2; 4], usize)> = topo
+            .vertex_quads(v)
+            .iter()
+            .map(|&qi| {
+                let q = &quads[qi as usize];
+                (corners(points, q), q.iter().position(|&u| u as usize == v).unwrap_or(0))
+            })
+            .collect();
+        let valid = quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect();
+        Star { quads, valid }
+    }
+
+    fn value(&self, at: DVec2) -> Value {
+        let (mut min, mut sum) = (f64::INFINITY, 0.0);
+        for ((c, k), &valid) in self.quads.iter().zip(&self.valid) {
+            let mut c = *c;
+            c[*k] = at;
+            let q = scaled_jacobian(&c);
+            if valid && q <= 0.0 {
+                return Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+            }
+            min = min.min(q);
+            sum += q;
+        }
+        if !at.is_finite() || min.is_nan() {
+            return Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+        }
+        Value { min, avg: sum / self.quads.len().max(1) as f64 }
+    }
+
+    /// Every corner's scaled Jacobian at `at` and its gradient with respect to `at`.
+    fn corner_functions(&self, at: DVec2, out: &mut Vec<(f64, DVec2)>) {
+        out.clear();
+        for (c, k) in &self.quads {
+            let mut c = *c;
+            c[*k] = at;
+            for i in 0..4 {
+                let (prev, p, next) = (c[(i + 3) % 4], c[i], c[(i + 1) % 4]);
+                let (u, w) = (next - p, prev - p);
+                let (lu, lw) = (u.length_squared(), w.length_squared());
+                if lu == 0.0 || lw == 0.0 {
+                    out.push((0.0, DVec2::ZERO));
+                    continue;
+                }
+                let norm = (lu * lw).sqrt();
+                let value = u.perp_dot(w) / norm;
+                let cos = u.dot(w) / norm;
+                // J = sin(angle from u to w): d/dw = cos perp(w)/|w|^2, d/du = -cos perp(u)/|u|^2.
+                let d_prev = cos * w.perp() / lw;
+                let d_next = -cos * u.perp() / lu;
+                let grad = if i == *k {
+                    -(d_prev + d_next)
+                } else if (i + 3) % 4 == *k {
+                    d_prev
+                } else if (i + 1) % 4 == *k {
+                    d_next
+                } else {
+                    DVec2::ZERO
+                };
+                out.push((value, grad));
+            }
+        }
+    }
+}
+
+/// Candidate positions seen by a local search, and the choice among them.
+struct Candidates<T> {
+    seen: Vec<(T, Value)>,
+    best: Value,
+}
+
+impl<T: Copy> Candidates<T> {
+    fn new() -> Self {
+        Candidates { seen: Vec::new(), best: Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY } }
+    }
+
+    fn add(&mut self, at: T, value: Value) {
+        if value.min > self.best.min {
+            self.best = value;
+        }
+        self.seen.push((at, value));
+    }
+
+    /// The highest-average candidate within `tolerance` of the best minimum that strictly
+    /// raises `current`.
+    fn choose(&self, current: f64, tolerance: f64) -> Option<(T, Value)> {
+        let mut chosen: Option<(T, Value)> = None;
+        for &(at, value) in &self.seen {
+            if value.min > current && value.min >= self.best.min - tolerance {
+                let better = chosen.is_none_or(|(_, c)| {
+                    value.avg > c.avg || (value.avg == c.avg && value.min > c.min)
+                });
+                if better {
+                    chosen = Some((at, value));
+                }
+            }
+        }
+        chosen
+    }
+}
+
+/// Minimum-norm point of the convex hull of `g` (a handful of 2D points): the steepest
+/// ascent direction of min_i (f_i + g_i . d), zero when the origin is in the hull.
+fn min_norm_in_hull(g: &[DVec2]) -> DVec2 {
+    // The min-norm point c satisfies g_i . c >= |c|^2 for every i; it is a point of g or the
+    // projection of the origin onto a segment between two of them, unless it is the origin.
+    let optimal = |c: DVec2| {
+        let c2 = c.length_squared();
+        g.iter().all(|gi| gi.dot(c) >= c2 - 1e-12 * c2.max(1e-300))
+    };
+    let mut best: Option<DVec2> = None;
+    let mut consider = |c: DVec2| {
+        if best.is_none_or(|b| c.length_squared() < b.length_squared()) && optimal(c) {
+            best = Some(c);
+        }
+    };
+    for (i, &a) in g.iter().enumerate() {
+        consider(a);
+        for &b in &g[i + 1..] {
+            let d = b - a;
+            let d2 = d.length_squared();
+            if d2 > 0.0 {
+                let t = (-a.dot(d) / d2).clamp(0.0, 1.0);
+                consider(a + t * d);
+            }
+        }
+    }
+    best.unwrap_or(DVec2::ZERO)
+}
+
+/// Freitag and Plassmann's active-set ascent from `start`; every accepted iterate is added
+/// to `seen`. `scale` bounds the length of one step.
+fn active_set(star: &Star, start: DVec2, iterations: usize, scale: f64, seen: &mut Candidates<DVec2>) {
+    let mut x = start;
+    let mut m = star.value(x).min;
+    if !m.is_finite() {
+        return;
+    }
+    let mut functions = Vec::with_capacity(star.quads.len() * 4);
+    let mut active = Vec::with_capacity(16);
+    // The active set's tolerance: large at first so the step follows the ridge of nearly
+    // equal corners, shrunk when it gives no ascent, until the smallest one fails too.
+    let mut eps = 1e-3;
+    let mut it = 0;
+    while it < iterations {
+        star.corner_functions(x, &mut functions);
+        let fmin = functions.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
+        active.clear();
+        active.extend(functions.iter().filter(|f| f.0 <= fmin + eps).map(|f| f.1));
+        let d = min_norm_in_hull(&active);
+        let d2 = d.length_squared();
+        let mut moved = false;
+        if d2 * scale * scale > 1e-24 {
+            // Where a non-active corner, decreasing slower than the active ones rise, meets
+            // them on the linearization.
+            let mut alpha = scale / d2.sqrt();
+            for &(f, g) in &functions {
+                let rate = g.dot(d);
+                if f > fmin + eps && rate < d2 {
+                    alpha = alpha.min((f - fmin) / (d2 - rate));
+                }
+            }
+            for _ in 0..30 {
+                let y = x + alpha * d;
+                let value = star.value(y);
+                if value.min > m {
+                    x = y;
+                    m = value.min;
+                    seen.add(y, value);
+                    moved = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+        }
+        it += 1;
+        if !moved {
+            if eps <= 1e-13 {
+                break;
+            }
+            eps *= 1e-3;
+        }
+    }
+}
+
+/// Nested grid search (DMO) around `start`; every candidate is added to `seen`. Returns the
+/// best point.
+fn grid_search(star: &Star, start: DVec2, extent: DVec2, settings: &MaxMinSettings, seen: &mut Candidates<DVec2>) -> DVec2 {
+    let n = settings.grid_size.max(2);
+    let affine = 1.0 / (n - 1) as f64;
+    let mut centre = start;
+    let mut centre_min = star.value(start).min;
+    let mut scale = 0.5;
+    for _ in 0..settings.grid_levels.max(1) {
+        let (lo, hi) = (centre - scale * extent, centre + scale * extent);
+        let mut level_best = (f64::NEG_INFINITY, centre);
+        for i in 0..n {
+            for j in 0..n {
+                let t = DVec2::new(i as f64 * affine, j as f64 * affine);
+                let p = lo + (hi - lo) * t;
+                let value = star.value(p);
+                seen.add(p, value);
+                if value.min > level_best.0 {
+                    level_best = (value.min, p);
+                }
+            }
+        }
+        if level_best.0 > centre_min {
+            (centre_min, centre) = level_best;
+        }
+        scale *= 2.0 * affine;
+    }
+    centre
+}
+
+/// The best position for interior vertex `v`, if one strictly raises its star's minimum.
+fn interior_move(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    settings: &MaxMinSettings,
+) -> Option<DVec2> {
+    let star = Star::new(points, quads, topo, v);
+    let p = points[v];
+    let current = star.value(p);
+    // Extent of the star: the largest offsets to the ring's vertices, per axis (as DMO).
+    let mut extent = DVec2::ZERO;
+    for &u in topo.full_ring(v) {
+        extent = extent.max((points[u as usize] - p).abs());
+    }
+    if !(extent.x > 0.0 || extent.y > 0.0) || !extent.is_finite() {
+        return None;
+    }
+    let mut seen = Candidates::new();
+    seen.add(p, current);
+    let scale = 0.5 * extent.max_element();
+    match settings.solver {
+        LocalSolver::Grid => {
+            grid_search(&star, p, extent, settings, &mut seen);
+        }
+        LocalSolver::ActiveSet => active_set(&star, p, settings.active_set_iterations, scale, &mut seen),
+        LocalSolver::GridActiveSet => {
+            let from = grid_search(&star, p, extent, settings, &mut seen);
+            active_set(&star, from, settings.active_set_iterations, scale, &mut seen);
+        }
+    }
+    let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
+    seen.choose(current_min, settings.avg_tolerance).map(|(at, _)| at)
+}
+
+/// The best arclength for movable boundary vertex `v` on its original loop, if one strictly
+/// raises its star's minimum: a nested 1-D search between its boundary neighbours.
+fn boundary_move(
+    points: &[DVec2],
+    params: &[f64],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    geometry: &BoundaryGeometry,
+    v: usize,
+    settings: &MaxMinSettings,
+) -> Option<(DVec2, f64)> {
+    let slot = geometry.slot(v)?;
+    let l = geometry.slot_loop(slot);
+    let (a, b) = geometry.loop_slots(l);
+    let count = b - a;
+    let len = geometry.loop_length(l);
+    if count < 3 || !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    let k = slot - a;
+    let s_prev = params[a + (k + count - 1) % count];
+    let mut s_next = params[a + (k + 1) % count];
+    while s_next <= s_prev {
+        s_next += len;
+    }
+    let margin = BOUNDARY_MARGIN * (s_next - s_prev);
+    let (lo, hi) = (s_prev + margin, s_next - margin);
+    if !(lo < hi) {
+        return None;
+    }
+    let star = Star::new(points, quads, topo, v);
+    let current = star.value(points[v]);
+    let mut seen: Candidates<f64> = Candidates::new();
+    let n = settings.boundary_samples.max(2);
+    let (mut from, mut to) = (lo, hi);
+    // Refine until the spacing is at roundoff level of the loop's length.
+    for _ in 0..40 {
+        let step = (to - from) / (n - 1) as f64;
+        let mut level_best = (f64::NEG_INFINITY, from);
+        for i in 0..n {
+            let s = from + step * i as f64;
+            let value = star.value(geometry.eval(l, s));
+            seen.add(s, value);
+            if value.min > level_best.0 {
+                level_best = (value.min, s);
+            }
+        }
+        if step <= 1e-13 * len {
+            break;
+        }
+        let s = level_best.1;
+        (from, to) = ((s - step).max(lo), (s + step).min(hi));
+    }
+    let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
+    let (s, _) = seen.choose(current_min, settings.avg_tolerance)?;
+    let s = s.rem_euclid(len);
+    Some((geometry.eval(l, s), s))
+}
+
+/// Quality statistics of every quad, computed in parallel and summed in a fixed order.
+fn quad_stats(points: &[DVec2], quads: &[[u32; 4]], values: &mut Vec<f64>) -> QualityStats {
+    values.clear();
+    values.par_extend(quads.par_iter().map(|q| scaled_jacobian(&corners(points, q))));
+    QualityStats::from_values(values)
+}
+
+/// Runs the max-min stage on `points` (and the boundary parameters `params`, one per slot of
+/// `geometry`, as the sweeps keep them). `progress` is called after every round with the
+/// round number and the global minimum; returning `false` cancels (the positions reached are
+/// kept, they are never worse).
+#[allow(clippy::too_many_arguments)]
+pub fn max_min_stage(
+    points: &mut [DVec2],
+    params: &mut [f64],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    features: &Features,
+    geometry: &BoundaryGeometry,
+    settings: &MaxMinSettings,
+    mut progress: Option<&mut dyn FnMut(usize, f64) -> bool>,
+) -> MaxMinReport {
+    let start = Instant::now();
+    let mut values = Vec::with_capacity(quads.len());
+    let before = quad_stats(points, quads, &mut values);
+    let mut report = MaxMinReport {
+        before,
+        after: before,
+        rounds: 0,
+        moves: 0,
+        history: vec![before.min],
+        cancelled: false,
+        seconds: 0.0,
+    };
+    if quads.is_empty() || before.min.is_nan() {
+        return report;
+    }
+    let eligible = |v: usize| {
+        features.is_movable(v) && (!features.is_boundary(v) || (settings.boundary && geometry.slot(v).is_some()))
+    };
+    let mut in_region = vec![false; points.len()];
+    let mut class_members: Vec<u32> = Vec::new();
+    let mut moves: Vec<(u32, DVec2, f64)> = Vec::new();
+    let mut delta = settings.region_delta.max(0.0);
+    let mut stats = before;
+    while report.rounds < settings.max_rounds {
+        let threshold = stats.min + delta;
+        in_region.fill(false);
+        for (q, &value) in quads.iter().zip(&values) {
+            if value < threshold {
+                for &u in q {
+                    in_region[u as usize] = true;
+                }
+            }
+        }
+        let mut round_moves = 0;
+        for c in 0..topo.colour_count() {
+            class_members.clear();
+            class_members.extend(topo.colour_class(c).iter().filter(|&&v| {
+                let v = v as usize;
+                in_region[v] && eligible(v)
+            }));
+            if class_members.is_empty() {
+                continue;
+            }
+            moves.clear();
+            {
+                let (pts, prm) = (&*points, &*params);
+                moves.par_extend(class_members.par_iter().filter_map(|&v| {
+                    let vi = v as usize;
+                    if features.is_boundary(vi) {
+                        boundary_move(pts, prm, quads, topo, geometry, vi, settings).map(|(p, s)| (v, p, s))
+                    } else {
+                        interior_move(pts, quads, topo, vi, settings).map(|p| (v, p, 0.0))
+                    }
+                }));
+            }
+            // Sequential: the same result whatever the thread count.
+            for &(v, p, s) in &moves {
+                points[v as usize] = p;
+                if let Some(slot) = geometry.slot(v as usize) {
+                    params[slot] = s;
+                }
+            }
+            round_moves += moves.len();
+        }
+        report.rounds += 1;
+        report.moves += round_moves;
+        let new_stats = quad_stats(points, quads, &mut values);
+        let gain = new_stats.min - stats.min;
+        stats = new_stats;
+        report.history.push(stats.min);
+        if let Some(cb) = progress.as_mut() {
+            if !cb(report.rounds, stats.min) {
+                report.cancelled = true;
+                break;
+            }
+        }
+        if round_moves == 0 || gain < settings.min_gain {
+            if delta >= settings.max_region_delta {
+                break;
+            }
+            delta = (2.0 * delta.max(1e-3)).min(settings.max_region_delta);
+        }
+    }
+    report.after = stats;
+    report.seconds = start.elapsed().as_secs_f64();
+    report
+}

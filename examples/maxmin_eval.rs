@@ -48,22 +48,36 @@ fn params_of(points: &[DVec2], original: &[DVec2], topo: &Topology, geometry: &B
 }
 
 fn main() {
-    let mut solver = LocalSolver::default();
+    let mut settings = MaxMinSettings::default();
     let mut files = Vec::new();
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         if a == "--solver" {
-            solver = match args.next().as_deref() {
+            settings.solver = match args.next().as_deref() {
                 Some("grid") => LocalSolver::Grid,
                 Some("active") => LocalSolver::ActiveSet,
                 Some("grid-active") => LocalSolver::GridActiveSet,
                 other => panic!("unknown solver {other:?}"),
             };
+        } else if let Some(name) = a.strip_prefix("--") {
+            let value: f64 = args.next().and_then(|v| v.parse().ok()).expect("a number");
+            match name {
+                "delta" => settings.region_delta = value,
+                "max-delta" => settings.max_region_delta = value,
+                "min-gain" => settings.min_gain = value,
+                "avg-tol" => settings.avg_tolerance = value,
+                "levels" => settings.grid_levels = value as usize,
+                "grid" => settings.grid_size = value as usize,
+                "iterations" => settings.active_set_iterations = value as usize,
+                "rounds" => settings.max_rounds = value as usize,
+                "avg-sweeps" => settings.average_sweeps = value as usize,
+                "enough" => settings.average_first = value != 0.0,
+                _ => panic!("unknown option --{name}"),
+            }
         } else {
             files.push(a);
         }
     }
-    let settings = MaxMinSettings { solver, ..MaxMinSettings::default() };
     println!(
         "{:<34} {:>7} {:>7} {:>7} | {:>7} {:>7} {:>6} {:>6} {:>7} {:>6}",
         "mesh", "min0", "avg0", "t_def", "min", "avg", "rounds", "moves", "t_stage", "share"
@@ -104,6 +118,10 @@ fn main() {
             stage.seconds,
             100.0 * stage.seconds / t_default
         );
+        if std::env::var_os("MAXMIN_HISTORY").is_some() {
+            let h: Vec<String> = stage.history.iter().map(|m| format!("{m:.4}")).collect();
+            println!("  history: {}", h.join(" "));
+        }
         assert!(stage.history.windows(2).all(|w| w[1] >= w[0]), "minimum fell: {:?}", stage.history);
     }
 }

@@ -74,6 +74,14 @@ pub struct MaxMinSettings {
     pub min_gain: f64,
     /// Round cap.
     pub max_rounds: usize,
+    /// Which of the two phases runs first. In the max-min phase every star goes to its
+    /// highest minimum; in the ranked phase, candidates whose star minimum exceeds the region's
+    /// threshold plus `region_delta` are ranked by average (leaving neighbours room). The
+    /// stage switches phase once, when the first stalls (measured: max-min first reaches the
+    /// higher minimum on the Mesquite and sample meshes).
+    pub average_first: bool,
+    /// Sweeps of the final average recovery over the moved vertices (0: none).
+    pub average_sweeps: usize,
     /// Move movable boundary vertices (along the original boundary) as well as interior ones.
     pub boundary: bool,
 }
@@ -88,9 +96,11 @@ impl Default for MaxMinSettings {
             boundary_samples: 16,
             region_delta: 0.05,
             max_region_delta: 0.4,
-            avg_tolerance: 1e-4,
-            min_gain: 1e-5,
+            avg_tolerance: 0.0,
+            min_gain: 1e-4,
             max_rounds: 200,
+            average_first: false,
+            average_sweeps: 2,
             boundary: true,
         }
     }
@@ -107,8 +117,8 @@ pub struct MaxMinReport {
     pub rounds: usize,
     /// Vertex moves taken.
     pub moves: usize,
-    /// Global minimum scaled Jacobian before the first round and after every round
-    /// (non-decreasing).
+    /// Global minimum scaled Jacobian before the first round, after every round and after the
+    /// average recovery (non-decreasing).
     pub history: Vec<f64>,
     /// Whether the callback cancelled the stage.
     pub cancelled: bool,
@@ -215,12 +225,13 @@ impl<T: Copy> Candidates<T> {
         self.seen.push((at, value));
     }
 
-    /// The highest-average candidate within `tolerance` of the best minimum that strictly
-    /// raises `current`.
-    fn choose(&self, current: f64, tolerance: f64) -> Option<(T, Value)> {
+    /// The highest-average candidate that strictly raises `current` and whose minimum is
+    /// within `tolerance` of the best one or at least `enough`.
+    fn choose(&self, current: f64, tolerance: f64, enough: f64) -> Option<(T, Value)> {
+        let level = (self.best.min - tolerance).min(enough);
         let mut chosen: Option<(T, Value)> = None;
         for &(at, value) in &self.seen {
-            if value.min > current && value.min >= self.best.min - tolerance {
+            if value.min > current && value.min >= level {
                 let better = chosen.is_none_or(|(_, c)| {
                     value.avg > c.avg || (value.avg == c.avg && value.min > c.min)
                 });
@@ -317,13 +328,20 @@ fn active_set(star: &Star, start: DVec2, iterations: usize, scale: f64, seen: &m
     }
 }
 
-/// Nested grid search (DMO) around `start`; every candidate is added to `seen`. Returns the
-/// best point.
-fn grid_search(star: &Star, start: DVec2, extent: DVec2, settings: &MaxMinSettings, seen: &mut Candidates<DVec2>) -> DVec2 {
+/// Nested grid search (DMO) around `start` for the highest `score`; every candidate is added
+/// to `seen`. Returns the best point.
+fn grid_search(
+    star: &Star,
+    start: DVec2,
+    extent: DVec2,
+    settings: &MaxMinSettings,
+    score: impl Fn(Value) -> f64,
+    seen: &mut Candidates<DVec2>,
+) -> DVec2 {
     let n = settings.grid_size.max(2);
     let affine = 1.0 / (n - 1) as f64;
     let mut centre = start;
-    let mut centre_min = star.value(start).min;
+    let mut centre_min = score(star.value(start));
     let mut scale = 0.5;
     for _ in 0..settings.grid_levels.max(1) {
         let (lo, hi) = (centre - scale * extent, centre + scale * extent);
@@ -334,8 +352,8 @@ fn grid_search(star: &Star, start: DVec2, extent: DVec2, settings: &MaxMinSettin
                 let p = lo + (hi - lo) * t;
                 let value = star.value(p);
                 seen.add(p, value);
-                if value.min > level_best.0 {
-                    level_best = (value.min, p);
+                if score(value) > level_best.0 {
+                    level_best = (score(value), p);
                 }
             }
         }
@@ -347,13 +365,66 @@ fn grid_search(star: &Star, start: DVec2, extent: DVec2, settings: &MaxMinSettin
     centre
 }
 
-/// The best position for interior vertex `v`, if one strictly raises its star's minimum.
+/// What a move of one vertex aims at.
+#[derive(Clone, Copy, Debug)]
+enum Objective {
+    /// Strictly raise the star's minimum; candidates at least `enough` are ranked by average.
+    MaxMin { enough: f64 },
+    /// Strictly raise the star's average, keeping its minimum at least min(current, floor).
+    Average { floor: f64 },
+}
+
+impl Objective {
+    /// The bar a candidate's star minimum must clear, given the star's current value.
+    fn floor(self, current: Value) -> f64 {
+        match self {
+            Objective::MaxMin { .. } => current.min,
+            Objective::Average { floor } => current.min.min(floor),
+        }
+    }
+
+    /// What the searches maximize.
+    fn score(self, current: Value) -> impl Fn(Value) -> f64 {
+        let floor = self.floor(current);
+        move |value: Value| match self {
+            Objective::MaxMin { .. } => value.min,
+            Objective::Average { .. } => {
+                if value.min >= floor {
+                    value.avg
+                } else {
+                    f64::NEG_INFINITY
+                }
+            }
+        }
+    }
+
+    /// The candidate taken, if any improves on `current`.
+    fn choose<T: Copy>(self, seen: &Candidates<T>, current: Value, tolerance: f64) -> Option<T> {
+        let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
+        match self {
+            Objective::MaxMin { enough } => seen.choose(current_min, tolerance, enough).map(|(at, _)| at),
+            Objective::Average { .. } => {
+                let floor = self.floor(current);
+                let mut chosen: Option<(T, f64)> = None;
+                for &(at, value) in &seen.seen {
+                    if value.min >= floor && value.avg > current.avg && chosen.is_none_or(|(_, a)| value.avg > a) {
+                        chosen = Some((at, value.avg));
+                    }
+                }
+                chosen.map(|(at, _)| at)
+            }
+        }
+    }
+}
+
+/// The best position for interior vertex `v` under `objective`, if one improves its star.
 fn interior_move(
     points: &[DVec2],
     quads: &[[u32; 4]],
     topo: &Topology,
     v: usize,
     settings: &MaxMinSettings,
+    objective: Objective,
 ) -> Option<DVec2> {
     let star = Star::new(points, quads, topo, v);
     let p = points[v];
@@ -369,22 +440,23 @@ fn interior_move(
     let mut seen = Candidates::new();
     seen.add(p, current);
     let scale = 0.5 * extent.max_element();
-    match settings.solver {
-        LocalSolver::Grid => {
-            grid_search(&star, p, extent, settings, &mut seen);
+    let score = objective.score(current);
+    match (settings.solver, objective) {
+        (LocalSolver::Grid, _) | (_, Objective::Average { .. }) => {
+            grid_search(&star, p, extent, settings, score, &mut seen);
         }
-        LocalSolver::ActiveSet => active_set(&star, p, settings.active_set_iterations, scale, &mut seen),
-        LocalSolver::GridActiveSet => {
-            let from = grid_search(&star, p, extent, settings, &mut seen);
+        (LocalSolver::ActiveSet, _) => active_set(&star, p, settings.active_set_iterations, scale, &mut seen),
+        (LocalSolver::GridActiveSet, _) => {
+            let from = grid_search(&star, p, extent, settings, score, &mut seen);
             active_set(&star, from, settings.active_set_iterations, scale, &mut seen);
         }
     }
-    let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
-    seen.choose(current_min, settings.avg_tolerance).map(|(at, _)| at)
+    objective.choose(&seen, current, settings.avg_tolerance)
 }
 
-/// The best arclength for movable boundary vertex `v` on its original loop, if one strictly
-/// raises its star's minimum: a nested 1-D search between its boundary neighbours.
+/// The best arclength for movable boundary vertex `v` on its original loop under
+/// `objective`, if one improves its star: a nested 1-D search between its boundary
+/// neighbours.
 fn boundary_move(
     points: &[DVec2],
     params: &[f64],
@@ -393,6 +465,7 @@ fn boundary_move(
     geometry: &BoundaryGeometry,
     v: usize,
     settings: &MaxMinSettings,
+    objective: Objective,
 ) -> Option<(DVec2, f64)> {
     let slot = geometry.slot(v)?;
     let l = geometry.slot_loop(slot);
@@ -415,6 +488,7 @@ fn boundary_move(
     }
     let star = Star::new(points, quads, topo, v);
     let current = star.value(points[v]);
+    let score = objective.score(current);
     let mut seen: Candidates<f64> = Candidates::new();
     let n = settings.boundary_samples.max(2);
     let (mut from, mut to) = (lo, hi);
@@ -426,8 +500,8 @@ fn boundary_move(
             let s = from + step * i as f64;
             let value = star.value(geometry.eval(l, s));
             seen.add(s, value);
-            if value.min > level_best.0 {
-                level_best = (value.min, s);
+            if score(value) > level_best.0 {
+                level_best = (score(value), s);
             }
         }
         if step <= 1e-13 * len {
@@ -436,9 +510,7 @@ fn boundary_move(
         let s = level_best.1;
         (from, to) = ((s - step).max(lo), (s + step).min(hi));
     }
-    let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
-    let (s, _) = seen.choose(current_min, settings.avg_tolerance)?;
-    let s = s.rem_euclid(len);
+    let s = objective.choose(&seen, current, settings.avg_tolerance)?.rem_euclid(len);
     Some((geometry.eval(l, s), s))
 }
 
@@ -447,6 +519,69 @@ fn quad_stats(points: &[DVec2], quads: &[[u32; 4]], values: &mut Vec<f64>) -> Qu
     values.clear();
     values.par_extend(quads.par_iter().map(|q| scaled_jacobian(&corners(points, q))));
     QualityStats::from_values(values)
+}
+
+/// What every sweep reads.
+struct Context<'a> {
+    quads: &'a [[u32; 4]],
+    topo: &'a Topology,
+    features: &'a Features,
+    geometry: &'a BoundaryGeometry,
+    settings: &'a MaxMinSettings,
+}
+
+impl Context<'_> {
+    /// Whether the stage may move `v`.
+    fn eligible(&self, v: usize) -> bool {
+        self.features.is_movable(v)
+            && (!self.features.is_boundary(v) || (self.settings.boundary && self.geometry.slot(v).is_some()))
+    }
+}
+
+/// One Gauss-Seidel sweep over the eligible vertices selected by `select`, colour class by
+/// colour class: a class is evaluated in parallel and applied in order. Marks the vertices
+/// moved in `moved`; returns how many moved.
+fn sweep(
+    points: &mut [DVec2],
+    params: &mut [f64],
+    ctx: &Context,
+    select: impl Fn(usize) -> bool + Sync,
+    objective: Objective,
+    moved: &mut [bool],
+) -> usize {
+    let mut members: Vec<u32> = Vec::new();
+    let mut moves: Vec<(u32, DVec2, f64)> = Vec::new();
+    let mut count = 0;
+    for c in 0..ctx.topo.colour_count() {
+        members.clear();
+        members.extend(ctx.topo.colour_class(c).iter().filter(|&&v| select(v as usize) && ctx.eligible(v as usize)));
+        if members.is_empty() {
+            continue;
+        }
+        moves.clear();
+        {
+            let (pts, prm) = (&*points, &*params);
+            moves.par_extend(members.par_iter().filter_map(|&v| {
+                let vi = v as usize;
+                if ctx.features.is_boundary(vi) {
+                    boundary_move(pts, prm, ctx.quads, ctx.topo, ctx.geometry, vi, ctx.settings, objective)
+                        .map(|(p, s)| (v, p, s))
+                } else {
+                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, objective).map(|p| (v, p, 0.0))
+                }
+            }));
+        }
+        // Sequential: the same result whatever the thread count.
+        for &(v, p, s) in &moves {
+            points[v as usize] = p;
+            moved[v as usize] = true;
+            if let Some(slot) = ctx.geometry.slot(v as usize) {
+                params[slot] = s;
+            }
+        }
+        count += moves.len();
+    }
+    count
 }
 
 /// Runs the max-min stage on `points` (and the boundary parameters `params`, one per slot of
@@ -479,16 +614,18 @@ pub fn max_min_stage(
     if quads.is_empty() || before.min.is_nan() {
         return report;
     }
-    let eligible = |v: usize| {
-        features.is_movable(v) && (!features.is_boundary(v) || (settings.boundary && geometry.slot(v).is_some()))
-    };
+    let ctx = Context { quads, topo, features, geometry, settings };
     let mut in_region = vec![false; points.len()];
-    let mut class_members: Vec<u32> = Vec::new();
-    let mut moves: Vec<(u32, DVec2, f64)> = Vec::new();
+    let mut moved = vec![false; points.len()];
     let mut delta = settings.region_delta.max(0.0);
     let mut stats = before;
+    // Two phases (see `average_first`); each greedy phase stalls in its own equilibrium, and
+    // the other one often moves on from there.
+    let mut ranked_by_average = settings.average_first;
+    let mut switched = false;
     while report.rounds < settings.max_rounds {
         let threshold = stats.min + delta;
+        let enough = if ranked_by_average { threshold + settings.region_delta } else { f64::INFINITY };
         in_region.fill(false);
         for (q, &value) in quads.iter().zip(&values) {
             if value < threshold {
@@ -497,37 +634,8 @@ pub fn max_min_stage(
                 }
             }
         }
-        let mut round_moves = 0;
-        for c in 0..topo.colour_count() {
-            class_members.clear();
-            class_members.extend(topo.colour_class(c).iter().filter(|&&v| {
-                let v = v as usize;
-                in_region[v] && eligible(v)
-            }));
-            if class_members.is_empty() {
-                continue;
-            }
-            moves.clear();
-            {
-                let (pts, prm) = (&*points, &*params);
-                moves.par_extend(class_members.par_iter().filter_map(|&v| {
-                    let vi = v as usize;
-                    if features.is_boundary(vi) {
-                        boundary_move(pts, prm, quads, topo, geometry, vi, settings).map(|(p, s)| (v, p, s))
-                    } else {
-                        interior_move(pts, quads, topo, vi, settings).map(|p| (v, p, 0.0))
-                    }
-                }));
-            }
-            // Sequential: the same result whatever the thread count.
-            for &(v, p, s) in &moves {
-                points[v as usize] = p;
-                if let Some(slot) = geometry.slot(v as usize) {
-                    params[slot] = s;
-                }
-            }
-            round_moves += moves.len();
-        }
+        let objective = Objective::MaxMin { enough };
+        let round_moves = sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut moved);
         report.rounds += 1;
         report.moves += round_moves;
         let new_stats = quad_stats(points, quads, &mut values);
@@ -542,10 +650,31 @@ pub fn max_min_stage(
         }
         if round_moves == 0 || gain < settings.min_gain {
             if delta >= settings.max_region_delta {
-                break;
+                if switched {
+                    break;
+                }
+                switched = true;
+                ranked_by_average = !ranked_by_average;
+                delta = settings.region_delta.max(0.0);
+                continue;
             }
             delta = (2.0 * delta.max(1e-3)).min(settings.max_region_delta);
         }
+    }
+    // Give back average where the minimum does not need it: the moved vertices raise their
+    // star's average while their star stays above the final minimum plus `region_delta`.
+    let floor = stats.min + settings.region_delta;
+    for _ in 0..settings.average_sweeps {
+        let was_moved = moved.clone();
+        let count = sweep(&mut *points, &mut *params, &ctx, |v| was_moved[v], Objective::Average { floor }, &mut moved);
+        report.moves += count;
+        if count == 0 {
+            break;
+        }
+    }
+    if settings.average_sweeps > 0 {
+        stats = quad_stats(points, quads, &mut values);
+        report.history.push(stats.min);
     }
     report.after = stats;
     report.seconds = start.elapsed().as_secs_f64();

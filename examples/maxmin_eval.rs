@@ -47,6 +47,19 @@ fn params_of(points: &[DVec2], original: &[DVec2], topo: &Topology, geometry: &B
     params
 }
 
+/// CPU seconds used so far by all threads of this process (Linux; 0 elsewhere): a measure of
+/// cost that does not depend on how busy the machine is.
+fn cpu_seconds() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else { return 0.0 };
+    let mut ns = 0u64;
+    for t in tasks.flatten() {
+        if let Ok(text) = std::fs::read_to_string(t.path().join("schedstat")) {
+            ns += text.split_whitespace().next().and_then(|f| f.parse::<u64>().ok()).unwrap_or(0);
+        }
+    }
+    ns as f64 * 1e-9
+}
+
 fn main() {
     let mut settings = MaxMinSettings::default();
     let mut files = Vec::new();
@@ -70,6 +83,9 @@ fn main() {
                 "grid" => settings.grid_size = value as usize,
                 "iterations" => settings.active_set_iterations = value as usize,
                 "rounds" => settings.max_rounds = value as usize,
+                "warm" => settings.warm_start = value != 0.0,
+                "escapes" => settings.escapes = value as usize,
+                "switch" => settings.switch_phase = value != 0.0,
                 "avg-sweeps" => settings.average_sweeps = value as usize,
                 "enough" => settings.average_first = value != 0.0,
                 _ => panic!("unknown option --{name}"),
@@ -79,8 +95,8 @@ fn main() {
         }
     }
     println!(
-        "{:<34} {:>7} {:>7} {:>7} | {:>7} {:>7} {:>6} {:>6} {:>7} {:>6}",
-        "mesh", "min0", "avg0", "t_def", "min", "avg", "rounds", "moves", "t_stage", "share"
+        "{:<40} {:>7} {:>7} {:>7} | {:>7} {:>7} {:>6} {:>6} {:>7} {:>6} {:>6}",
+        "mesh", "min0", "avg0", "t_def", "min", "avg", "rounds", "moves", "t_stage", "share", "cpu%"
     );
     for file in files {
         let data = match io::read_mesh(&file) {
@@ -90,23 +106,31 @@ fn main() {
                 continue;
             }
         };
-        let planar = io::PlanarMesh::new(&data).expect("planar mesh");
+        let planar = match io::PlanarMesh::new(&data) {
+            Ok(p) => p,
+            Err(e) => {
+                eprintln!("{file}: {e}");
+                continue;
+            }
+        };
         let mut mesh: QuadMesh = planar.mesh;
         let original = mesh.points().to_vec();
         let topo = Topology::new(&mesh);
         let options = Options::default();
         let features = Features::new(&mesh, &topo, options.feature_angle_deg, BoundaryMode::Auto);
         let geometry = BoundaryGeometry::new(&original, &topo, &features);
-        let t0 = Instant::now();
+        let (t0, c0) = (Instant::now(), cpu_seconds());
         let report = optimize(&mut mesh, &options).expect("optimize");
-        let t_default = t0.elapsed().as_secs_f64();
+        let (t_default, c_default) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
+        let c1 = cpu_seconds();
         let mut points = mesh.points().to_vec();
         let mut params = params_of(&points, &original, &topo, &geometry);
         let stage =
             max_min_stage(&mut points, &mut params, mesh.quads(), &topo, &features, &geometry, &settings, None);
+        let c_stage = cpu_seconds() - c1;
         let name = std::path::Path::new(&file).file_name().unwrap().to_string_lossy().to_string();
         println!(
-            "{:<34} {:>7.4} {:>7.4} {:>7.3} | {:>7.4} {:>7.4} {:>6} {:>6} {:>7.3} {:>5.1}%",
+            "{:<40} {:>7.4} {:>7.4} {:>7.3} | {:>7.4} {:>7.4} {:>6} {:>6} {:>7.3} {:>5.1}% {:>5.1}%",
             name,
             report.output.min,
             report.output.avg,
@@ -116,7 +140,8 @@ fn main() {
             stage.rounds,
             stage.moves,
             stage.seconds,
-            100.0 * stage.seconds / t_default
+            100.0 * stage.seconds / t_default,
+            100.0 * c_stage / c_default
         );
         if std::env::var_os("MAXMIN_HISTORY").is_some() {
             let h: Vec<String> = stage.history.iter().map(|m| format!("{m:.4}")).collect();

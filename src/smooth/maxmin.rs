@@ -33,6 +33,14 @@ use std::time::Instant;
 /// vertex and each of its boundary neighbours (as the boundary sweeps do).
 const BOUNDARY_MARGIN: f64 = 0.05;
 
+/// A move must raise its star's minimum (or, recovering the average, its average) by more
+/// than this: gains at roundoff level are not worth a move (perfect meshes would otherwise
+/// shuffle vertices by 1e-16 forever).
+const MIN_RISE: f64 = 1e-12;
+
+/// Step halvings of the active-set line search before the step counts as failed.
+const ACTIVE_SET_HALVINGS: usize = 12;
+
 /// How an interior vertex's best position is searched.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum LocalSolver {
@@ -80,6 +88,13 @@ pub struct MaxMinSettings {
     /// stage switches phase once, when the first stalls (measured: max-min first reaches the
     /// higher minimum on the Mesquite and sample meshes).
     pub average_first: bool,
+    /// With [`LocalSolver::GridActiveSet`], search with the grid only a vertex's first time
+    /// (and after an escape), later with the active set alone from where it is.
+    pub warm_start: bool,
+    /// Switch phase (see `average_first`) when the first stalls.
+    pub switch_phase: bool,
+    /// Average sweeps over the region allowed when the max-min rounds stall.
+    pub escapes: usize,
     /// Sweeps of the final average recovery over the moved vertices (0: none).
     pub average_sweeps: usize,
     /// Move movable boundary vertices (along the original boundary) as well as interior ones.
@@ -101,6 +116,9 @@ impl Default for MaxMinSettings {
             max_rounds: 200,
             average_first: false,
             average_sweeps: 2,
+            warm_start: false,
+            switch_phase: true,
+            escapes: 4,
             boundary: true,
         }
     }
@@ -231,7 +249,7 @@ impl<T: Copy> Candidates<T> {
         let level = (self.best.min - tolerance).min(enough);
         let mut chosen: Option<(T, Value)> = None;
         for &(at, value) in &self.seen {
-            if value.min > current && value.min >= level {
+            if value.min > current + MIN_RISE && value.min >= level {
                 let better = chosen.is_none_or(|(_, c)| {
                     value.avg > c.avg || (value.avg == c.avg && value.min > c.min)
                 });
@@ -305,7 +323,7 @@ fn active_set(star: &Star, start: DVec2, iterations: usize, scale: f64, seen: &m
                     alpha = alpha.min((f - fmin) / (d2 - rate));
                 }
             }
-            for _ in 0..30 {
+            for _ in 0..ACTIVE_SET_HALVINGS {
                 let y = x + alpha * d;
                 let value = star.value(y);
                 if value.min > m {
@@ -320,10 +338,10 @@ fn active_set(star: &Star, start: DVec2, iterations: usize, scale: f64, seen: &m
         }
         it += 1;
         if !moved {
-            if eps <= 1e-13 {
+            if eps <= 1e-11 {
                 break;
             }
-            eps *= 1e-3;
+            eps *= 1e-4;
         }
     }
 }
@@ -407,7 +425,7 @@ impl Objective {
                 let floor = self.floor(current);
                 let mut chosen: Option<(T, f64)> = None;
                 for &(at, value) in &seen.seen {
-                    if value.min >= floor && value.avg > current.avg && chosen.is_none_or(|(_, a)| value.avg > a) {
+                    if value.min >= floor && value.avg > current.avg + MIN_RISE && chosen.is_none_or(|(_, a)| value.avg > a) {
                         chosen = Some((at, value.avg));
                     }
                 }
@@ -424,6 +442,7 @@ fn interior_move(
     topo: &Topology,
     v: usize,
     settings: &MaxMinSettings,
+    solver: LocalSolver,
     objective: Objective,
 ) -> Option<DVec2> {
     let star = Star::new(points, quads, topo, v);
@@ -441,7 +460,7 @@ fn interior_move(
     seen.add(p, current);
     let scale = 0.5 * extent.max_element();
     let score = objective.score(current);
-    match (settings.solver, objective) {
+    match (solver, objective) {
         (LocalSolver::Grid, _) | (_, Objective::Average { .. }) => {
             grid_search(&star, p, extent, settings, score, &mut seen);
         }
@@ -538,48 +557,79 @@ impl Context<'_> {
     }
 }
 
+/// Per-vertex bookkeeping of the stage.
+struct Marks {
+    /// Moved at least once.
+    moved: Vec<bool>,
+    /// A max-min search found no better position, and nothing in the star has moved since:
+    /// the search would fail again (its outcome does not depend on the round's threshold).
+    settled: Vec<bool>,
+    /// A max-min search with the grid has run here (see `MaxMinSettings::warm_start`).
+    searched: Vec<bool>,
+}
+
 /// One Gauss-Seidel sweep over the eligible vertices selected by `select`, colour class by
-/// colour class: a class is evaluated in parallel and applied in order. Marks the vertices
-/// moved in `moved`; returns how many moved.
+/// colour class: a class is evaluated in parallel and applied in order. Returns how many
+/// vertices moved.
 fn sweep(
     points: &mut [DVec2],
     params: &mut [f64],
     ctx: &Context,
     select: impl Fn(usize) -> bool + Sync,
     objective: Objective,
-    moved: &mut [bool],
+    marks: &mut Marks,
 ) -> usize {
+    let max_min = matches!(objective, Objective::MaxMin { .. });
     let mut members: Vec<u32> = Vec::new();
-    let mut moves: Vec<(u32, DVec2, f64)> = Vec::new();
+    let mut results: Vec<(u32, Option<(DVec2, f64)>)> = Vec::new();
     let mut count = 0;
     for c in 0..ctx.topo.colour_count() {
         members.clear();
-        members.extend(ctx.topo.colour_class(c).iter().filter(|&&v| select(v as usize) && ctx.eligible(v as usize)));
+        members.extend(ctx.topo.colour_class(c).iter().filter(|&&v| {
+            let v = v as usize;
+            select(v) && ctx.eligible(v) && !(max_min && marks.settled[v])
+        }));
         if members.is_empty() {
             continue;
         }
-        moves.clear();
+        results.clear();
         {
-            let (pts, prm) = (&*points, &*params);
-            moves.par_extend(members.par_iter().filter_map(|&v| {
+            let (pts, prm, warm) = (&*points, &*params, &marks.searched[..]);
+            results.par_extend(members.par_iter().map(|&v| {
                 let vi = v as usize;
-                if ctx.features.is_boundary(vi) {
+                let found = if ctx.features.is_boundary(vi) {
                     boundary_move(pts, prm, ctx.quads, ctx.topo, ctx.geometry, vi, ctx.settings, objective)
-                        .map(|(p, s)| (v, p, s))
                 } else {
-                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, objective).map(|p| (v, p, 0.0))
-                }
+                    // The grid has placed v near its optimum once: later rounds only follow
+                    // its neighbours' moves, which the active set does at a fraction of the cost.
+                    let solver = match ctx.settings.solver {
+                        LocalSolver::GridActiveSet if warm[vi] => LocalSolver::ActiveSet,
+                        s => s,
+                    };
+                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, solver, objective).map(|p| (p, 0.0))
+                };
+                (v, found)
             }));
         }
         // Sequential: the same result whatever the thread count.
-        for &(v, p, s) in &moves {
-            points[v as usize] = p;
-            moved[v as usize] = true;
-            if let Some(slot) = ctx.geometry.slot(v as usize) {
+        for &(v, found) in &results {
+            let v = v as usize;
+            marks.searched[v] |= max_min && ctx.settings.warm_start;
+            let Some((p, s)) = found else {
+                marks.settled[v] |= max_min;
+                continue;
+            };
+            points[v] = p;
+            marks.moved[v] = true;
+            marks.settled[v] = false;
+            for &u in ctx.topo.full_ring(v) {
+                marks.settled[u as usize] = false;
+            }
+            if let Some(slot) = ctx.geometry.slot(v) {
                 params[slot] = s;
             }
+            count += 1;
         }
-        count += moves.len();
     }
     count
 }
@@ -611,18 +661,21 @@ pub fn max_min_stage(
         cancelled: false,
         seconds: 0.0,
     };
-    if quads.is_empty() || before.min.is_nan() {
+    if quads.is_empty() || before.min.is_nan() || before.min >= 1.0 - MIN_RISE {
         return report;
     }
     let ctx = Context { quads, topo, features, geometry, settings };
     let mut in_region = vec![false; points.len()];
-    let mut moved = vec![false; points.len()];
+    let mut marks = Marks { moved: vec![false; points.len()], settled: vec![false; points.len()],
+        searched: vec![false; points.len()],
+    };
     let mut delta = settings.region_delta.max(0.0);
     let mut stats = before;
     // Two phases (see `average_first`); each greedy phase stalls in its own equilibrium, and
     // the other one often moves on from there.
     let mut ranked_by_average = settings.average_first;
-    let mut switched = false;
+    let mut switched = !settings.switch_phase;
+    let mut escapes = 0;
     while report.rounds < settings.max_rounds {
         let threshold = stats.min + delta;
         let enough = if ranked_by_average { threshold + settings.region_delta } else { f64::INFINITY };
@@ -635,7 +688,7 @@ pub fn max_min_stage(
             }
         }
         let objective = Objective::MaxMin { enough };
-        let round_moves = sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut moved);
+        let round_moves = sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
         report.rounds += 1;
         report.moves += round_moves;
         let new_stats = quad_stats(points, quads, &mut values);
@@ -649,24 +702,35 @@ pub fn max_min_stage(
             }
         }
         if round_moves == 0 || gain < settings.min_gain {
-            if delta >= settings.max_region_delta {
-                if switched {
-                    break;
-                }
+            if delta < settings.max_region_delta {
+                delta = (2.0 * delta.max(1e-3)).min(settings.max_region_delta);
+            } else if escapes < settings.escapes {
+                // Every region vertex sits at its star's max-min given its neighbours: move
+                // the region by average instead (keeping each star above the minimum plus
+                // region_delta, or its current value), which unlocks the next max-min rounds.
+                escapes += 1;
+                let floor = stats.min + settings.region_delta;
+                let objective = Objective::Average { floor };
+                report.moves += sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
+                stats = quad_stats(points, quads, &mut values);
+                report.history.push(stats.min);
+                delta = settings.region_delta.max(0.0);
+                marks.searched.fill(false);
+            } else if !switched {
                 switched = true;
                 ranked_by_average = !ranked_by_average;
                 delta = settings.region_delta.max(0.0);
-                continue;
+            } else {
+                break;
             }
-            delta = (2.0 * delta.max(1e-3)).min(settings.max_region_delta);
         }
     }
     // Give back average where the minimum does not need it: the moved vertices raise their
     // star's average while their star stays above the final minimum plus `region_delta`.
     let floor = stats.min + settings.region_delta;
     for _ in 0..settings.average_sweeps {
-        let was_moved = moved.clone();
-        let count = sweep(&mut *points, &mut *params, &ctx, |v| was_moved[v], Objective::Average { floor }, &mut moved);
+        let was_moved = marks.moved.clone();
+        let count = sweep(&mut *points, &mut *params, &ctx, |v| was_moved[v], Objective::Average { floor }, &mut marks);
         report.moves += count;
         if count == 0 {
             break;

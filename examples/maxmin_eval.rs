@@ -125,8 +125,16 @@ fn main() {
         let c1 = cpu_seconds();
         let mut points = mesh.points().to_vec();
         let mut params = params_of(&points, &original, &topo, &geometry);
-        let stage =
-            max_min_stage(&mut points, &mut params, mesh.quads(), &topo, &features, &geometry, &settings, None);
+        let stage = max_min_stage(
+            &mut points,
+            &mut params,
+            mesh.quads(),
+            &topo,
+            &features,
+            &geometry,
+            &settings,
+            None,
+        );
         let c_stage = cpu_seconds() - c1;
         let name = std::path::Path::new(&file).file_name().unwrap().to_string_lossy().to_string();
         println!(

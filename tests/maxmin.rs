@@ -44,7 +44,11 @@ fn run(mesh: &QuadMesh, mode: BoundaryMode, settings: &MaxMinSettings) -> (Vec<D
     for v in 0..points.len() {
         if let Some(slot) = geometry.slot(v) {
             let at = geometry.eval(geometry.slot_loop(slot), params[slot]);
-            assert!((at - points[v]).length() < 1e-12, "vertex {v} at {} but its parameter gives {at}", points[v]);
+            assert!(
+                (at - points[v]).length() < 1e-12,
+                "vertex {v} at {} but its parameter gives {at}",
+                points[v]
+            );
         }
     }
     (points, report)
@@ -178,10 +182,10 @@ fn the_minimum_never_falls_and_fixed_vertices_stay_bit_identical() {
         }
         let topo = Topology::new(&mesh);
         let features = Features::new(&mesh, &topo, 45.0, BoundaryMode::Slide);
-        for v in 0..points.len() {
+        for (v, p) in points.iter().enumerate() {
             if !features.is_movable(v) {
                 assert_eq!(
-                    points[v].to_array().map(f64::to_bits),
+                    p.to_array().map(f64::to_bits),
                     mesh.points()[v].to_array().map(f64::to_bits),
                     "seed {seed}: vertex {v} is fixed or a corner but moved"
                 );

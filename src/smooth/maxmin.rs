@@ -12,14 +12,26 @@
 //! - movable boundary vertices by a nested 1-D search along their ORIGINAL polyline between
 //!   the arclengths of their two boundary neighbours, so they stay on the original boundary.
 //!
-//! A move is taken only when the star's minimum strictly rises and no quad of the star that is
-//! valid becomes inverted, so the global minimum never falls. Among the positions evaluated
-//! whose star minimum is within `avg_tolerance` of the best one, the one with the highest star
-//! average is taken, so the average is not given away for a negligible gain of the minimum.
+//! A max-min move is taken only when the star's minimum strictly rises (by more than
+//! roundoff) and no quad of the star that is valid becomes inverted, so the global minimum
+//! never falls. Among the positions evaluated whose star minimum is within `avg_tolerance` of
+//! the best one, the one with the highest star average is taken.
+//!
 //! A class is evaluated in parallel (its vertices share no quad, so each reads only positions
 //! no other one changes) and applied in order: the result does not depend on the thread count.
-//! Rounds repeat until the global minimum stops rising; when it stalls the region grows (the
-//! threshold doubles, up to `max_region_delta`) before the stage gives up.
+//! Quads none of whose vertices may move are left out of the region's reference minimum (the
+//! "level"), so a fixed worst quad does not stall the stage.
+//!
+//! Rounds repeat while the level rises by at least `min_gain`. When it stalls, in order: the
+//! region grows (the threshold doubles up to `max_region_delta`); an "escape" moves the region
+//! by average instead, each star kept above min(its value, level + `region_delta`), which
+//! unlocks the greedy equilibrium (at most `escapes` times); the phase switches once (see
+//! [`MaxMinSettings::average_first`]); then the stage ends. Last, `average_sweeps` sweeps over
+//! the moved vertices give back average the same way, so the stage does not trade the average
+//! for the minimum (measured: the average rises on every sample mesh).
+//!
+//! A vertex whose max-min search failed is skipped until something in its star moves (the
+//! search would fail again), so the late rounds cost little.
 
 use super::boundary::BoundaryGeometry;
 use crate::features::Features;
@@ -73,15 +85,15 @@ pub struct MaxMinSettings {
     pub active_set_iterations: usize,
     /// Samples per level of the boundary 1-D search (>= 2).
     pub boundary_samples: usize,
-    /// Initial region: the vertices of quads whose scaled Jacobian is below the global minimum
-    /// plus this.
+    /// Initial region: the vertices of quads whose scaled Jacobian is below the level (the
+    /// minimum over quads with a movable vertex) plus this.
     pub region_delta: f64,
     /// The region's threshold grows (doubling) up to this when the minimum stalls.
     pub max_region_delta: f64,
     /// Positions whose star minimum is within this of the best one found count as equal, and
     /// the highest star average among them is taken (0: the best minimum only).
     pub avg_tolerance: f64,
-    /// A round whose global-minimum gain is below this counts as a stall.
+    /// A round whose gain of the level is below this counts as a stall.
     pub min_gain: f64,
     /// Round cap.
     pub max_rounds: usize,
@@ -113,7 +125,7 @@ impl Default for MaxMinSettings {
             active_set_iterations: 30,
             boundary_samples: 16,
             region_delta: 0.05,
-            max_region_delta: 0.4,
+            max_region_delta: 0.2,
             avg_tolerance: 0.0,
             min_gain: 1e-4,
             max_rounds: 200,
@@ -121,7 +133,7 @@ impl Default for MaxMinSettings {
             average_sweeps: 2,
             warm_start: false,
             switch_phase: true,
-            escapes: 4,
+            escapes: 2,
             boundary: true,
         }
     }
@@ -306,9 +318,8 @@ impl<T: Copy> Candidates<T> {
         let mut chosen: Option<(T, Value)> = None;
         for &(at, value) in &self.seen {
             if value.min > current + MIN_RISE && value.min >= level {
-                let better = chosen.is_none_or(|(_, c)| {
-                    value.avg > c.avg || (value.avg == c.avg && value.min > c.min)
-                });
+                let better = chosen
+                    .is_none_or(|(_, c)| value.avg > c.avg || (value.avg == c.avg && value.min > c.min));
                 if better {
                     chosen = Some((at, value));
                 }
@@ -481,7 +492,10 @@ impl Objective {
                 let floor = self.floor(current);
                 let mut chosen: Option<(T, f64)> = None;
                 for &(at, value) in &seen.seen {
-                    if value.min >= floor && value.avg > current.avg + MIN_RISE && chosen.is_none_or(|(_, a)| value.avg > a) {
+                    if value.min >= floor
+                        && value.avg > current.avg + MIN_RISE
+                        && chosen.is_none_or(|(_, a)| value.avg > a)
+                    {
                         chosen = Some((at, value.avg));
                     }
                 }
@@ -532,6 +546,7 @@ fn interior_move(
 /// The best arclength for movable boundary vertex `v` on its original loop under
 /// `objective`, if one improves its star: a nested 1-D search between its boundary
 /// neighbours.
+#[allow(clippy::too_many_arguments)]
 fn boundary_move(
     points: &[DVec2],
     params: &[f64],
@@ -558,7 +573,7 @@ fn boundary_move(
     }
     let margin = BOUNDARY_MARGIN * (s_next - s_prev);
     let (lo, hi) = (s_prev + margin, s_next - margin);
-    if !(lo < hi) {
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
         return None;
     }
     let star = Star::new(points, quads, topo, v);
@@ -662,7 +677,8 @@ fn sweep(
                         LocalSolver::GridActiveSet if warm[vi] => LocalSolver::ActiveSet,
                         s => s,
                     };
-                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, solver, objective).map(|p| (p, 0.0))
+                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, solver, objective)
+                        .map(|p| (p, 0.0))
                 };
                 (v, found)
             };
@@ -728,7 +744,9 @@ pub fn max_min_stage(
     }
     let ctx = Context { quads, topo, features, geometry, settings };
     let mut in_region = vec![false; points.len()];
-    let mut marks = Marks { moved: vec![false; points.len()], settled: vec![false; points.len()],
+    let mut marks = Marks {
+        moved: vec![false; points.len()],
+        settled: vec![false; points.len()],
         searched: vec![false; points.len()],
     };
     // Quads with no vertex the stage may move keep their value: the stage works on the worst
@@ -738,7 +756,7 @@ pub fn max_min_stage(
         values.iter().zip(&stuck).filter(|(_, s)| !**s).map(|(v, _)| *v).fold(f64::INFINITY, f64::min)
     };
     let mut level = level_of(&values);
-    if !(level < 1.0 - MIN_RISE) {
+    if level.is_nan() || level >= 1.0 - MIN_RISE {
         // Nothing movable, or every movable quad already perfect.
         return report;
     }
@@ -785,7 +803,8 @@ pub fn max_min_stage(
                 escapes += 1;
                 let floor = level + settings.region_delta;
                 let objective = Objective::Average { floor };
-                report.moves += sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
+                report.moves +=
+                    sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
                 stats = quad_stats(points, quads, &mut values);
                 level = level_of(&values);
                 report.history.push(stats.min);
@@ -805,7 +824,14 @@ pub fn max_min_stage(
     let floor = level + settings.region_delta;
     for _ in 0..settings.average_sweeps {
         let was_moved = marks.moved.clone();
-        let count = sweep(&mut *points, &mut *params, &ctx, |v| was_moved[v], Objective::Average { floor }, &mut marks);
+        let count = sweep(
+            &mut *points,
+            &mut *params,
+            &ctx,
+            |v| was_moved[v],
+            Objective::Average { floor },
+            &mut marks,
+        );
         report.moves += count;
         if count == 0 {
             break;
@@ -837,7 +863,8 @@ mod tests {
         };
         let mut fast = 0;
         for _ in 0..20_000 {
-            let base = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+            let base =
+                [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
             let c = base.map(|p| p + 0.6 * DVec2::new(next(), next()));
             let k = ((next() + 0.5) * 4.0) as usize % 4;
             let x = base[k] + 0.8 * DVec2::new(next(), next());

@@ -41,14 +41,10 @@ fn run(mesh: &QuadMesh, mode: BoundaryMode, settings: &MaxMinSettings) -> (Vec<D
         max_min_stage(&mut points, &mut params, mesh.quads(), &topo, &features, &geometry, settings, None);
     // The parameters describe the positions: every movable boundary vertex sits at its
     // parameter's point of the original boundary.
-    for v in 0..points.len() {
+    for (v, p) in points.iter().enumerate() {
         if let Some(slot) = geometry.slot(v) {
             let at = geometry.eval(geometry.slot_loop(slot), params[slot]);
-            assert!(
-                (at - points[v]).length() < 1e-12,
-                "vertex {v} at {} but its parameter gives {at}",
-                points[v]
-            );
+            assert!((at - *p).length() < 1e-12, "vertex {v} at {p} but its parameter gives {at}");
         }
     }
     (points, report)

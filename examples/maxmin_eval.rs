@@ -84,6 +84,7 @@ fn main() {
                 "iterations" => settings.active_set_iterations = value as usize,
                 "rounds" => settings.max_rounds = value as usize,
                 "warm" => settings.warm_start = value != 0.0,
+                "margin" => settings.recovery_margin = value,
                 "escapes" => settings.escapes = value as usize,
                 "switch" => settings.switch_phase = value != 0.0,
                 "avg-sweeps" => settings.average_sweeps = value as usize,

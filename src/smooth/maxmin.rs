@@ -110,6 +110,8 @@ pub struct MaxMinSettings {
     pub switch_phase: bool,
     /// Average sweeps over the region allowed when the max-min rounds stall.
     pub escapes: usize,
+    /// The final average recovery keeps each star above min(its value, level + this).
+    pub recovery_margin: f64,
     /// Sweeps of the final average recovery over the moved vertices (0: none).
     pub average_sweeps: usize,
     /// Move movable boundary vertices (along the original boundary) as well as interior ones.
@@ -130,7 +132,8 @@ impl Default for MaxMinSettings {
             min_gain: 1e-4,
             max_rounds: 200,
             average_first: false,
-            average_sweeps: 2,
+            average_sweeps: 4,
+            recovery_margin: 0.01,
             warm_start: false,
             switch_phase: true,
             escapes: 2,
@@ -819,11 +822,17 @@ pub fn max_min_stage(
             }
         }
     }
-    // Give back average where the minimum does not need it: the moved vertices raise their
-    // star's average while their star stays above the final level plus `region_delta`.
-    let floor = level + settings.region_delta;
+    // Give back average where the minimum does not need it: the moved vertices and their
+    // neighbours (whose quads the moves changed) raise their star's average while their star
+    // stays above min(its value, the final level plus `recovery_margin`).
+    let floor = level + settings.recovery_margin;
     for _ in 0..settings.average_sweeps {
-        let was_moved = marks.moved.clone();
+        let mut was_moved = marks.moved.clone();
+        for v in (0..points.len()).filter(|&v| marks.moved[v]) {
+            for &u in topo.full_ring(v) {
+                was_moved[u as usize] = true;
+            }
+        }
         let count = sweep(
             &mut *points,
             &mut *params,

@@ -198,11 +198,9 @@ fn the_minimum_never_falls_and_fixed_vertices_stay_bit_identical() {
     }
 }
 
-#[test]
-fn boundary_vertices_stay_on_the_original_curved_boundary() {
-    // A jittered ring of quads between regular 24-gons of radius 1 and 2 (turning 15 degrees
-    // per vertex: no corners). The stage must keep every boundary vertex on the input's
-    // polygons: not on the circles, not on the current edges.
+/// A jittered ring of quads between regular 24-gons of radius 1 and 2 (turning 15 degrees
+/// per boundary vertex: no corners); returns the mesh and the boundary rings' vertex ranges.
+fn ring_mesh() -> (QuadMesh, u32, u32) {
     let (n, rings) = (24u32, 3u32);
     let mut rng = Rng(42);
     let mut p = Vec::new();
@@ -222,7 +220,14 @@ fn boundary_vertices_stay_on_the_original_curved_boundary() {
             q.push([a, b, b + n, a + n]);
         }
     }
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    (QuadMesh::new(p, q, None).unwrap(), n, rings)
+}
+
+#[test]
+fn boundary_vertices_stay_on_the_original_curved_boundary() {
+    // The stage must keep every boundary vertex on the input's polygons: not on the circles,
+    // not on the current edges.
+    let (mesh, n, rings) = ring_mesh();
     let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
     assert_monotone(&report);
     assert!(report.after.min > report.before.min);
@@ -243,6 +248,23 @@ fn boundary_vertices_stay_on_the_original_curved_boundary() {
         }
     }
     assert!(moved > 0, "no boundary vertex moved: the test would check nothing");
+}
+
+#[test]
+fn a_zero_boundary_deviation_keeps_curved_boundaries_in_place() {
+    // Every boundary vertex of the ring is a vertex of the curved original polygon: with a
+    // tolerance of 0 any slide would cut a corner of it, so only interior vertices move.
+    let (mesh, n, rings) = ring_mesh();
+    let settings = MaxMinSettings { max_boundary_deviation: Some(0.0), ..MaxMinSettings::default() };
+    let (points, report) = run(&mesh, BoundaryMode::Slide, &settings);
+    assert!(report.after.min > report.before.min);
+    for r in [0, rings] {
+        for k in 0..n {
+            let v = (r * n + k) as usize;
+            assert_eq!(points[v], mesh.points()[v], "boundary vertex {v} moved");
+        }
+    }
+    assert!((n as usize..(rings * n) as usize).any(|v| points[v] != mesh.points()[v]));
 }
 
 #[test]

@@ -34,6 +34,7 @@
 //! search would fail again), so the late rounds cost little.
 
 use super::boundary::BoundaryGeometry;
+use super::fidelity::chord_deviation;
 use crate::features::Features;
 use crate::quality::{QualityStats, corners, scaled_jacobian};
 use crate::topology::Topology;
@@ -116,6 +117,9 @@ pub struct MaxMinSettings {
     pub average_sweeps: usize,
     /// Move movable boundary vertices (along the original boundary) as well as interior ones.
     pub boundary: bool,
+    /// As [`super::Options::max_boundary_deviation`]: largest distance between a new boundary
+    /// edge and the stretch of the original boundary it replaces, relative to its length.
+    pub max_boundary_deviation: Option<f64>,
 }
 
 impl Default for MaxMinSettings {
@@ -138,6 +142,7 @@ impl Default for MaxMinSettings {
             switch_phase: true,
             escapes: 2,
             boundary: true,
+            max_boundary_deviation: None,
         }
     }
 }
@@ -226,6 +231,9 @@ struct Value {
     avg: f64,
 }
 
+/// The value of a position that may not be taken.
+const REJECTED: Value = Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+
 impl Star {
     fn new(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> Star {
         let quads: Vec<([DVec2; 4], usize)> = topo
@@ -250,13 +258,13 @@ impl Star {
                 scaled_jacobian(&c)
             });
             if valid && q <= 0.0 {
-                return Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+                return REJECTED;
             }
             min = min.min(q);
             sum += q;
         }
         if !at.is_finite() || min.is_nan() {
-            return Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+            return REJECTED;
         }
         Value { min, avg: sum / self.quads.len().max(1) as f64 }
     }
@@ -304,7 +312,7 @@ struct Candidates<T> {
 
 impl<T: Copy> Candidates<T> {
     fn new() -> Self {
-        Candidates { seen: Vec::new(), best: Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY } }
+        Candidates { seen: Vec::new(), best: REJECTED }
     }
 
     fn add(&mut self, at: T, value: Value) {
@@ -583,6 +591,16 @@ fn boundary_move(
     let current = star.value(points[v]);
     let score = objective.score(current);
     let mut seen: Candidates<f64> = Candidates::new();
+    // Honour the shape tolerance as the boundary sweeps do: both new boundary edges within
+    // tol x their length of the original stretch they replace.
+    let within_tolerance = |t: f64| {
+        settings.max_boundary_deviation.is_none_or(|tol| {
+            [(s_prev, t), (t, s_next)].iter().all(|&(a, b)| {
+                let (n2o, o2n) = chord_deviation(geometry, l, a, b);
+                n2o.max(o2n) <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
+            })
+        })
+    };
     let n = settings.boundary_samples.max(2);
     let (mut from, mut to) = (lo, hi);
     // Refine until the spacing is at roundoff level of the loop's length.
@@ -591,7 +609,7 @@ fn boundary_move(
         let mut level_best = (f64::NEG_INFINITY, from);
         for i in 0..n {
             let s = from + step * i as f64;
-            let value = star.value(geometry.eval(l, s));
+            let value = if within_tolerance(s) { star.value(geometry.eval(l, s)) } else { REJECTED };
             seen.add(s, value);
             if score(value) > level_best.0 {
                 level_best = (score(value), s);

@@ -84,6 +84,7 @@ fn main() {
                 "iterations" => settings.active_set_iterations = value as usize,
                 "rounds" => settings.max_rounds = value as usize,
                 "warm" => settings.warm_start = value != 0.0,
+                "smooth-avg" => settings.average_by_smoothing = value != 0.0,
                 "margin" => settings.recovery_margin = value,
                 "escapes" => settings.escapes = value as usize,
                 "switch" => settings.switch_phase = value != 0.0,

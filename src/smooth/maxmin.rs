@@ -54,6 +54,9 @@ const MIN_RISE: f64 = 1e-9;
 /// Classes with fewer region vertices than this are solved on the calling thread.
 const PARALLEL_MIN: usize = 32;
 
+/// Step halvings towards the smoothing target when recovering the average.
+const AVERAGE_HALVINGS: usize = 8;
+
 /// Step halvings of the active-set line search before the step counts as failed.
 const ACTIVE_SET_HALVINGS: usize = 12;
 
@@ -111,6 +114,10 @@ pub struct MaxMinSettings {
     pub switch_phase: bool,
     /// Average sweeps over the region allowed when the max-min rounds stall.
     pub escapes: usize,
+    /// Recover the average (escapes and final sweeps) by steps towards the embedded-polygon
+    /// target, halved until acceptable, instead of a grid search for the highest average
+    /// (measured: a third cheaper, but the average ends up to 0.007 lower).
+    pub average_by_smoothing: bool,
     /// The final average recovery keeps each star above min(its value, level + this).
     pub recovery_margin: f64,
     /// Sweeps of the final average recovery over the moved vertices (0: none).
@@ -138,6 +145,7 @@ impl Default for MaxMinSettings {
             average_first: false,
             average_sweeps: 4,
             recovery_margin: 0.01,
+            average_by_smoothing: false,
             warm_start: false,
             switch_phase: true,
             escapes: 2,
@@ -542,6 +550,23 @@ fn interior_move(
     let scale = 0.5 * extent.max_element();
     let score = objective.score(current);
     match (solver, objective) {
+        (_, Objective::Average { .. }) if settings.average_by_smoothing => {
+            // The embedded-polygon target is where the sweeps put the vertex for the average:
+            // the longest step back towards it that keeps the star above the floor.
+            let (target, _) = super::embedded_polygon::target(points, v, topo.ring(v));
+            let mut step = target - p;
+            if step.is_finite() {
+                for _ in 0..=AVERAGE_HALVINGS {
+                    let at = p + step;
+                    let value = star.value(at);
+                    seen.add(at, value);
+                    if score(value) > f64::NEG_INFINITY && value.avg > current.avg {
+                        break;
+                    }
+                    step *= 0.5;
+                }
+            }
+        }
         (LocalSolver::Grid, _) | (_, Objective::Average { .. }) => {
             grid_search(&star, p, extent, settings, score, &mut seen);
         }

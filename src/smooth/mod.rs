@@ -24,6 +24,7 @@ pub mod energy;
 pub mod fidelity;
 pub mod guard;
 pub mod laplacian;
+pub mod maxmin;
 pub mod options;
 pub mod ranking;
 pub mod report;
@@ -40,7 +41,7 @@ use boundary::BoundaryGeometry;
 pub use fidelity::BoundaryFidelity;
 use glam::DVec2;
 pub use options::{BoundaryMode, Method, Options, StopRule};
-pub use report::{Progress, Report};
+pub use report::{MaxMinGain, Progress, Report};
 use std::time::Instant;
 use sweep::RunContext;
 pub use untangle::{TangleReason, TangledQuad};
@@ -101,11 +102,16 @@ impl Optimizer {
             input_inverted: input_values.iter().map(|&v| v <= 0.0).collect(),
             floor: options.guard_floor.max(input.min),
         };
-        let (pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
+        let (mut pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
             ctx.auto(mesh.points(), &mut progress)
         } else {
             let modes = vec![options.boundary; topo.loop_count()];
             (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
+        };
+        let max_min = if options.max_min && !pass.cancelled {
+            ctx.max_min_stage(&mut pass, &mut progress)
+        } else {
+            None
         };
 
         // Once, for the kept pass: it costs as much as the targets of a sweep.
@@ -129,6 +135,7 @@ impl Optimizer {
             loop_modes,
             fidelity,
             // The statistics already say whether there is anything to diagnose.
+            max_min,
             tangled: if pass.stats.inverted == 0 {
                 Vec::new()
             } else {
@@ -203,6 +210,7 @@ mod tests {
             guard: false,
             untangle: false,
             keep_best: false,
+            max_min: false,
             ..Options::default()
         }
     }

@@ -1,0 +1,374 @@
+//! Scale and translation invariance (issue 8, item 3): quality and optimization give the same
+//! result for a mesh scaled by any factor from 1e-300 to 1e300 or translated far from the
+//! origin.
+//!
+//! - Quality: per-quad values within 1e-12 of the unit-scale ones for any factor (the input's
+//!   rounding is all that differs), bit-identical for a power-of-two factor, always in [-1, 1],
+//!   and the inverted count the same.
+//! - Optimization (default options): the same inverted count and a minimum and average within
+//!   1e-6 of the unit-scale run for any factor; bit-identical, relative to the scale, for a
+//!   power-of-two factor; fixed and corner vertices bit-identical; boundary vertices on the
+//!   original boundary.
+//! - Translation by an offset `T` rounds the input to the precision coordinates have at `T`,
+//!   so it changes results by about `T / h` units in the last place (`h` the shortest edge):
+//!   per-quad quality within `4 f64::EPSILON T / h`, optimized minimum and average within
+//!   `1e-6` while `T / h` stays below 1e7 (about 2^-29 of the coordinates' precision left).
+
+mod common;
+
+use common::Rng;
+use quadopt::ffi::{QuadoptQuality, QuadoptStatus, quadopt_quality};
+use quadopt::normalization::scale_by_power_of_two;
+use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report};
+
+/// Factors that are not powers of two, over the whole range asked for.
+const FACTORS: [f64; 14] =
+    [1e-300, 1e-250, 1e-170, 1e-155, 1e-100, 1e-10, 0.3, 7.0, 1e10, 1e100, 1e155, 1e170, 1e250, 1e300];
+
+/// Powers of two over the same range (2^996 is about 6.7e299).
+const EXPONENTS: [i32; 8] = [-996, -700, -515, -1, 1, 515, 700, 996];
+
+/// An `n` by `n` grid of unit cells whose interior vertices are jittered by up to `amount`
+/// (boundary vertices too, along the boundary's normal, when `boundary` is set).
+fn jittered_grid(n: u32, amount: f64, boundary: bool, seed: u64) -> (Vec<DVec2>, Vec<[u32; 4]>) {
+    let mut rng = Rng(seed);
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f64, j as f64);
+            let (dx, dy) = (amount * rng.next(), amount * rng.next());
+            let interior = i > 0 && j > 0 && i < n && j < n;
+            let corner = (i == 0 || i == n) && (j == 0 || j == n);
+            p.push(if interior {
+                DVec2::new(x + dx, y + dy)
+            } else if boundary && !corner && (j == 0 || j == n) {
+                DVec2::new(x, y + 0.5 * dy)
+            } else if boundary && !corner {
+                DVec2::new(x + 0.5 * dx, y)
+            } else {
+                DVec2::new(x, y)
+            });
+        }
+    }
+    let mut q = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            q.push([a, a + 1, a + n + 2, a + n + 1]);
+        }
+    }
+    (p, q)
+}
+
+/// A jittered grid with one interior vertex pushed across its neighbour: inverted quads.
+fn tangled() -> (Vec<DVec2>, Vec<[u32; 4]>) {
+    let (mut p, q) = jittered_grid(6, 0.15, false, 7);
+    // Vertex (3, 3) moved beyond (4, 3): the quads on its left fold over.
+    let v = 3 * 7 + 3;
+    p[v] = DVec2::new(4.3, 3.1);
+    (p, q)
+}
+
+/// The test meshes: (name, points, quads, fixed flags).
+fn meshes() -> Vec<(&'static str, Vec<DVec2>, Vec<[u32; 4]>, Option<Vec<bool>>)> {
+    let (tp, tq) = tangled();
+    let (gp, gq) = jittered_grid(10, 0.3, false, 1);
+    let (bp, bq) = jittered_grid(8, 0.25, true, 3);
+    // Two interior vertices fixed in the boundary-jittered grid.
+    let mut fixed = vec![false; bp.len()];
+    fixed[2 * 9 + 2] = true;
+    fixed[5 * 9 + 6] = true;
+    vec![
+        ("tangled", tp, tq, None),
+        ("jittered grid", gp, gq, None),
+        ("jittered boundary, fixed vertices", bp, bq, Some(fixed)),
+    ]
+}
+
+fn scaled(points: &[DVec2], factor: f64) -> Vec<DVec2> {
+    points.iter().map(|&p| p * factor).collect()
+}
+
+fn scaled_by_power_of_two(points: &[DVec2], e: i32) -> Vec<DVec2> {
+    points.iter().map(|&p| DVec2::new(scale_by_power_of_two(p.x, e), scale_by_power_of_two(p.y, e))).collect()
+}
+
+fn shortest_edge(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
+    quads
+        .iter()
+        .flat_map(|q| (0..4).map(move |i| (points[q[i] as usize] - points[q[(i + 1) % 4] as usize]).length()))
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn the_test_meshes_are_what_they_claim() {
+    let ms = meshes();
+    let tangled = QuadMesh::new(ms[0].1.clone(), ms[0].2.clone(), None).unwrap().quality();
+    assert!(tangled.inverted >= 1, "{tangled:?}");
+    for (name, p, q, f) in &ms[1..] {
+        let s = QuadMesh::new(p.clone(), q.clone(), f.clone()).unwrap().quality();
+        assert!(s.inverted == 0 && s.min < 0.8, "{name}: {s:?}");
+    }
+}
+
+#[test]
+fn quality_is_the_same_at_every_scale_and_within_minus_one_and_one() {
+    for (name, p, q, _) in meshes() {
+        let unit = QuadMesh::new(p.clone(), q.clone(), None).unwrap();
+        let (values, stats) = (unit.quality_values(), unit.quality());
+        for factor in FACTORS {
+            let m = QuadMesh::new(scaled(&p, factor), q.clone(), None).unwrap();
+            let (v, s) = (m.quality_values(), m.quality());
+            for (k, (a, b)) in v.iter().zip(&values).enumerate() {
+                assert!((-1.0..=1.0).contains(a), "{name} x{factor:e}: quad {k} scores {a}");
+                assert!((a - b).abs() <= 1e-12, "{name} x{factor:e}: quad {k} scores {a}, {b} at unit scale");
+            }
+            assert_eq!(s.inverted, stats.inverted, "{name} x{factor:e}");
+            assert!(
+                (s.min - stats.min).abs() <= 1e-12 && (s.avg - stats.avg).abs() <= 1e-12,
+                "{name} x{factor:e}"
+            );
+            assert!((-1.0..=1.0).contains(&s.max), "{name} x{factor:e}: {s:?}");
+        }
+        for e in EXPONENTS {
+            let m = QuadMesh::new(scaled_by_power_of_two(&p, e), q.clone(), None).unwrap();
+            assert_eq!(m.quality_values(), values, "{name} x2^{e}");
+        }
+    }
+}
+
+#[test]
+fn a_perfect_grid_at_tiny_spacing_has_no_inverted_quad() {
+    // The issue's case: at 1e-170 spacing the squared edge lengths underflowed to zero.
+    let (p, q) = jittered_grid(5, 0.0, false, 0);
+    for factor in [1e-170, 1e-300, 1e-307, 1e170, 1e300] {
+        let s = QuadMesh::new(scaled(&p, factor), q.clone(), None).unwrap().quality();
+        assert_eq!((s.min, s.max, s.inverted), (1.0, 1.0, 0), "x{factor:e}");
+    }
+}
+
+#[test]
+fn the_c_abi_quality_is_finite_and_counts_the_inverted_quad_at_1e155() {
+    // The issue's case: +inf statistics and 0 inverted quads from quadopt_quality.
+    let (p, q) = tangled();
+    let unit = QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality();
+    for factor in [1e155, 1e-155, 1e300] {
+        let coords: Vec<f64> = scaled(&p, factor).iter().flat_map(|v| [v.x, v.y]).collect();
+        let quads: Vec<u32> = q.iter().flatten().copied().collect();
+        let mut out = QuadoptQuality { min: 0.0, avg: 0.0, max: 0.0, inverted: 0 };
+        let mut per = vec![f64::NAN; q.len()];
+        // SAFETY: the arrays have the sizes passed.
+        let status = unsafe {
+            quadopt_quality(
+                coords.as_ptr(),
+                2,
+                p.len(),
+                quads.as_ptr(),
+                q.len(),
+                &mut out,
+                per.as_mut_ptr(),
+                q.len(),
+            )
+        };
+        assert_eq!(status, QuadoptStatus::Ok);
+        assert_eq!(out.inverted, unit.inverted, "x{factor:e}");
+        assert!((out.min - unit.min).abs() < 1e-12 && (out.avg - unit.avg).abs() < 1e-12, "x{factor:e}");
+        assert!(per.iter().chain([&out.min, &out.avg, &out.max]).all(|v| (-1.0..=1.0).contains(v)));
+    }
+}
+
+#[test]
+fn extreme_coordinates_give_values_in_range() {
+    // Quads spanning the whole number range, or far from the origin: no overflow.
+    let big = f64::MAX / 2.0;
+    let cases = [
+        [(-big, -big), (big, -big), (big, big), (-big, big)],
+        [(big, big), (-big, big), (-big, -big), (big, -big)],
+        [(1e300, 1e300), (1e300 + 1e285, 1e300), (1e300 + 1e285, 1e300 + 1e285), (1e300, 1e300 + 1e285)],
+        [(0.0, 0.0), (1e-320, 0.0), (1e-320, 1e-320), (0.0, 1e-320)],
+    ];
+    for (k, c) in cases.iter().enumerate() {
+        let q = c.map(|(x, y)| DVec2::new(x, y));
+        let v = quadopt::quality::scaled_jacobian(&q);
+        assert!((v - 1.0).abs() < 1e-12, "case {k}: {v}");
+    }
+    // A dart with a reflex corner (hand-computed in src/quality.rs) scaled to 1e300: negative.
+    let dart = [(0., 0.), (1., 0.), (0.5, 0.2), (0., 1.)].map(|(x, y)| DVec2::new(x, y) * 1e300);
+    let expected = -0.3 / (0.89f64.sqrt() * 0.29f64.sqrt());
+    assert!((quadopt::quality::scaled_jacobian(&dart) - expected).abs() < 1e-14);
+}
+
+#[test]
+fn quality_under_translation_is_within_the_stated_bound() {
+    for (name, p, q, _) in meshes() {
+        let values = QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality_values();
+        let h = shortest_edge(&p, &q);
+        for offset in [1e3, 1e6, 1e9, 1e12] {
+            let moved: Vec<DVec2> = p.iter().map(|&v| v + DVec2::new(offset, -0.5 * offset)).collect();
+            let m = QuadMesh::new(moved, q.clone(), None).unwrap();
+            let bound = 4.0 * f64::EPSILON * offset / h + 1e-14;
+            let worst =
+                m.quality_values().iter().zip(&values).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            assert!(worst <= bound, "{name} + {offset:e}: off by {worst:e}, bound {bound:e}");
+            if bound < 1e-3 {
+                assert_eq!(
+                    m.quality().inverted,
+                    QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality().inverted
+                );
+            }
+        }
+    }
+}
+
+/// A default optimization of `points`; returns the optimized points and the report.
+fn optimized(
+    points: Vec<DVec2>,
+    quads: &[[u32; 4]],
+    fixed: &Option<Vec<bool>>,
+) -> (Vec<DVec2>, Report, Vec<Vec<u32>>, QuadMesh) {
+    let mut mesh = QuadMesh::new(points, quads.to_vec(), fixed.clone()).unwrap();
+    let input = mesh.clone();
+    let optimizer = Optimizer::new(&mesh);
+    let report = optimizer.run(&mut mesh, &Options::default(), None).unwrap();
+    let loops = optimizer.topology().boundary_loops().map(|l| l.to_vec()).collect();
+    (mesh.points().to_vec(), report, loops, input)
+}
+
+fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+    (a + d * t - p).length()
+}
+
+/// Checks the guarantees of a run at `scale`: the report tells the truth, vertices that may
+/// not move (fixed, corners) are bit-identical, boundary vertices lie on the original
+/// boundary polyline (within 1e-11 of `scale`, the size of the mesh's unit cells).
+fn check_run(
+    name: &str,
+    input: &QuadMesh,
+    output: &[DVec2],
+    report: &Report,
+    loops: &[Vec<u32>],
+    scale: f64,
+) {
+    let after = QuadMesh::new(output.to_vec(), input.quads().to_vec(), None).unwrap().quality();
+    assert_eq!(after, report.output, "{name}: report differs from the returned mesh");
+    let before = input.points();
+    for (v, &fixed) in input.fixed().iter().enumerate() {
+        if fixed {
+            assert_eq!(
+                output[v].to_array().map(f64::to_bits),
+                before[v].to_array().map(f64::to_bits),
+                "{name}"
+            );
+        }
+    }
+    // Distances in units of the scale, so that the check itself cannot overflow.
+    for l in loops {
+        let polyline: Vec<DVec2> = l.iter().map(|&v| before[v as usize] / scale).collect();
+        for &v in l {
+            let p = output[v as usize] / scale;
+            let d = (0..polyline.len())
+                .map(|i| distance_to_segment(p, polyline[i], polyline[(i + 1) % polyline.len()]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 1e-11, "{name}: boundary vertex {v} is {d:e} (relative) off the boundary");
+        }
+    }
+    // The grid's four corners never move.
+    for (v, &b) in before.iter().enumerate() {
+        if is_box_corner(b, before) {
+            assert_eq!(
+                output[v].to_array().map(f64::to_bits),
+                b.to_array().map(f64::to_bits),
+                "{name}: corner {v}"
+            );
+        }
+    }
+}
+
+fn is_box_corner(p: DVec2, points: &[DVec2]) -> bool {
+    let lo = points.iter().fold(DVec2::splat(f64::INFINITY), |a, &b| a.min(b));
+    let hi = points.iter().fold(DVec2::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
+    (p.x == lo.x || p.x == hi.x) && (p.y == lo.y || p.y == hi.y)
+}
+
+#[test]
+fn optimization_is_the_same_at_every_scale() {
+    for (name, p, q, fixed) in meshes() {
+        let (unit_points, unit, loops, input) = optimized(p.clone(), &q, &fixed);
+        check_run(name, &input, &unit_points, &unit, &loops, 1.0);
+        assert!(unit.output.better_than(&unit.input), "{name}: {:?} -> {:?}", unit.input, unit.output);
+        for factor in FACTORS {
+            let (points, r, loops, input) = optimized(scaled(&p, factor), &q, &fixed);
+            let label = format!("{name} x{factor:e}");
+            check_run(&label, &input, &points, &r, &loops, factor);
+            assert_eq!(r.output.inverted, unit.output.inverted, "{label}");
+            assert!(
+                (r.output.min - unit.output.min).abs() <= 1e-6,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
+            assert!(
+                (r.output.avg - unit.output.avg).abs() <= 1e-6,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
+            assert!(r.iterations < Options::default().max_iterations, "{label}: ran to the cap");
+            // The positions themselves, relative to the scale.
+            let worst =
+                points.iter().zip(&unit_points).map(|(a, b)| (*a / factor - *b).length()).fold(0.0, f64::max);
+            assert!(worst <= 1e-6, "{label}: a vertex is {worst:e} (relative) from its unit-scale position");
+        }
+    }
+}
+
+#[test]
+fn optimization_scaled_by_a_power_of_two_is_bit_identical() {
+    for (name, p, q, fixed) in meshes() {
+        let (unit_points, unit, _, _) = optimized(p.clone(), &q, &fixed);
+        for e in EXPONENTS {
+            let (points, r, loops, input) = optimized(scaled_by_power_of_two(&p, e), &q, &fixed);
+            let label = format!("{name} x2^{e}");
+            check_run(&label, &input, &points, &r, &loops, scale_by_power_of_two(1.0, e));
+            assert_eq!(points, scaled_by_power_of_two(&unit_points, e), "{label}");
+            assert_eq!(
+                (r.output, r.input, r.iterations),
+                (unit.output, unit.input, unit.iterations),
+                "{label}"
+            );
+        }
+    }
+}
+
+#[test]
+fn optimization_under_translation_is_within_the_stated_bound() {
+    for (name, p, q, fixed) in meshes() {
+        let (unit_points, unit, _, _) = optimized(p.clone(), &q, &fixed);
+        let h = shortest_edge(&p, &q);
+        for offset in [1e2, 1e4, 1e6] {
+            assert!(offset / h < 1e7);
+            let shift = DVec2::new(offset, -0.5 * offset);
+            let (points, r, loops, input) = optimized(p.iter().map(|&v| v + shift).collect(), &q, &fixed);
+            let label = format!("{name} + {offset:e}");
+            check_run(&label, &input, &points, &r, &loops, offset * 1e-3);
+            assert_eq!(r.output.inverted, unit.output.inverted, "{label}");
+            assert!(
+                (r.output.min - unit.output.min).abs() <= 1e-6,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
+            assert!(
+                (r.output.avg - unit.output.avg).abs() <= 1e-6,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
+            let worst =
+                points.iter().zip(&unit_points).map(|(a, b)| (*a - shift - *b).length()).fold(0.0, f64::max);
+            assert!(worst <= 1e-6, "{label}: a vertex is {worst:e} from its untranslated position");
+        }
+    }
+}

@@ -9,10 +9,15 @@
 //!   1e-6 of the unit-scale run for any factor; bit-identical, relative to the scale, for a
 //!   power-of-two factor; fixed and corner vertices bit-identical; boundary vertices on the
 //!   original boundary.
-//! - Translation by an offset `T` rounds the input to the precision coordinates have at `T`,
-//!   so it changes results by about `T / h` units in the last place (`h` the shortest edge):
-//!   per-quad quality within `4 f64::EPSILON T / h`, optimized minimum and average within
-//!   `1e-6` while `T / h` stays below 1e7 (about 2^-29 of the coordinates' precision left).
+//! - Translation by an offset `T` rounds the input to the precision coordinates have at `T`
+//!   (`f64::EPSILON T`), which no method can undo, so results change by about `T / h` units in
+//!   the last place (`h` the shortest edge): per-quad quality within `4 f64::EPSILON T / h`
+//!   (a bound: each corner's sine moves by at most the two edge directions' rounding). The
+//!   optimized result has no such proven bound, since the optimizer's discrete choices (guard,
+//!   best iterate, boundary mode) could amplify the rounding; measured on these meshes up to
+//!   `T = 1e6`: minimum and average within `30 f64::EPSILON T / h`, positions within
+//!   `500 f64::EPSILON T`; asserted with margins of about 7 and 4 (`200` and `2000`), and within
+//!   1e-6 as the issue asks.
 
 mod common;
 
@@ -366,9 +371,25 @@ fn optimization_under_translation_is_within_the_stated_bound() {
                 r.output,
                 unit.output
             );
+            let quality_bound = 200.0 * f64::EPSILON * offset / h;
+            assert!(
+                (r.output.min - unit.output.min).abs() <= quality_bound,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
+            assert!(
+                (r.output.avg - unit.output.avg).abs() <= quality_bound,
+                "{label}: {:?} vs {:?}",
+                r.output,
+                unit.output
+            );
             let worst =
                 points.iter().zip(&unit_points).map(|(a, b)| (*a - shift - *b).length()).fold(0.0, f64::max);
-            assert!(worst <= 1e-6, "{label}: a vertex is {worst:e} from its untranslated position");
+            assert!(
+                worst <= 2000.0 * f64::EPSILON * offset,
+                "{label}: a vertex is {worst:e} from its untranslated position"
+            );
         }
     }
 }

@@ -242,10 +242,10 @@ class Frame {
         const double t = sign / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
         const double c = 1.0 / std::sqrt(t * t + 1.0);
         const double s = t * c;
-        for (auto &row : a) {
-          const double kp = row[p], kq = row[q];
-          row[p] = c * kp - s * kq;
-          row[q] = s * kp + c * kq;
+        for (int r = 0; r < 3; ++r) {
+          const double kp = a[r][p], kq = a[r][q];
+          a[r][p] = c * kp - s * kq;
+          a[r][q] = s * kp + c * kq;
         }
         for (int k = 0; k < 3; ++k) {
           const double pk = a[p][k], qk = a[q][k];

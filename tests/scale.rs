@@ -74,8 +74,11 @@ fn tangled() -> (Vec<DVec2>, Vec<[u32; 4]>) {
     (p, q)
 }
 
-/// The test meshes: (name, points, quads, fixed flags).
-fn meshes() -> Vec<(&'static str, Vec<DVec2>, Vec<[u32; 4]>, Option<Vec<bool>>)> {
+/// A test mesh: name, points, quads, fixed flags.
+type TestMesh = (&'static str, Vec<DVec2>, Vec<[u32; 4]>, Option<Vec<bool>>);
+
+/// The test meshes.
+fn meshes() -> Vec<TestMesh> {
     let (tp, tq) = tangled();
     let (gp, gq) = jittered_grid(10, 0.3, false, 1);
     let (bp, bq) = jittered_grid(8, 0.25, true, 3);

@@ -13,7 +13,7 @@
 //   QUADOPT_STATUS_NOT_PLANAR) names the farthest vertex.
 //
 // The fit works on coordinates scaled by a power of two (exact), so it behaves the same at any
-// finite scale.
+// finite scale, and gives the command-line tool's frame bit for bit.
 #ifndef QUADOPT_PLANAR_HPP
 #define QUADOPT_PLANAR_HPP
 
@@ -105,25 +105,28 @@ class Frame {
         return f;
       }
     }
-    double lo[3], hi[3], sum[3] = {0, 0, 0};
+    double lo[3], hi[3];
     for (int c = 0; c < 3; ++c) lo[c] = hi[c] = xyz[3 * idx[0] + c];
     for (std::size_t i : idx) {
       for (int c = 0; c < 3; ++c) {
         lo[c] = std::fmin(lo[c], xyz[3 * i + c]);
         hi[c] = std::fmax(hi[c], xyz[3 * i + c]);
-        sum[c] += xyz[3 * i + c];
       }
     }
-    double origin[3];
-    for (int c = 0; c < 3; ++c) origin[c] = sum[c] / static_cast<double>(idx.size());
-    // Work on differences scaled by 2^-e (exact) so that the products cannot overflow or
-    // underflow; every comparison below is between quantities scaled alike.
+    // Sums and products on coordinates scaled by 2^-e (exact), so that nothing overflows or
+    // underflows at any scale; every comparison is between quantities scaled alike. (No axis
+    // is constant here, so the extent is positive.)
     double half = 0;
     for (int c = 0; c < 3; ++c) half = std::fmax(half, hi[c] * 0.5 - lo[c] * 0.5);
     int e = 0;
-    std::frexp(half, &e);
-    e += 1;
+    std::frexp(half, &e);  // half = m 2^e, m in [0.5, 1): the CLI's binary exponent + 1
     auto scaled = [e](double x) { return std::ldexp(x, -e); };
+    double sum[3] = {0, 0, 0};
+    for (std::size_t i : idx) {
+      for (int c = 0; c < 3; ++c) sum[c] += scaled(xyz[3 * i + c]);
+    }
+    double origin[3];
+    for (int c = 0; c < 3; ++c) origin[c] = std::ldexp(sum[c] / static_cast<double>(idx.size()), e);
     double cov[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (std::size_t i : idx) {
       double d[3];

@@ -475,3 +475,19 @@ fn untangling_is_continuous_in_its_input() {
         );
     }
 }
+
+#[test]
+fn optimization_works_at_the_ends_of_the_number_range() {
+    // Coordinates up to 1.5e308 (close to f64::MAX) and down to 1e-305 (close to the
+    // subnormals): the same result as at unit scale.
+    for (name, p, q, fixed) in meshes() {
+        let (_, unit, _, _) = optimized(p.clone(), &q, &fixed);
+        for factor in [1.5e307, 1e-305] {
+            let (points, r, _, _) = optimized(scaled(&p, factor), &q, &fixed);
+            assert!(points.iter().all(|v| v.is_finite()), "{name} x{factor:e}");
+            assert_eq!(r.output.inverted, unit.output.inverted, "{name} x{factor:e}");
+            assert!((r.output.min - unit.output.min).abs() <= 1e-6, "{name} x{factor:e}: {:?}", r.output);
+            assert!((r.output.avg - unit.output.avg).abs() <= 1e-6, "{name} x{factor:e}: {:?}", r.output);
+        }
+    }
+}

@@ -601,7 +601,8 @@ Grid2 jittered_st(int n, double amount) {
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const std::uint32_t a = static_cast<std::uint32_t>(j * (n + 1) + i);
-      g.quads.insert(g.quads.end(), {a, a + 1, a + static_cast<std::uint32_t>(n) + 2, a + static_cast<std::uint32_t>(n) + 1});
+      const std::uint32_t w = static_cast<std::uint32_t>(n) + 1;
+      g.quads.insert(g.quads.end(), {a, a + 1, a + w + 1, a + w});
     }
   }
   return g;
@@ -643,7 +644,9 @@ std::vector<double> openmesh_points(const M &m) {
 
 SM3 cgal_from(const std::vector<double> &xyz, const std::vector<std::uint32_t> &quads) {
   SM3 sm;
-  for (std::size_t i = 0; i < xyz.size() / 3; ++i) sm.add_vertex(K::Point_3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
+  for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+    sm.add_vertex(K::Point_3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
+  }
   for (std::size_t q = 0; q < quads.size() / 4; ++q) {
     using V = SM3::Vertex_index;
     sm.add_face(V(quads[4 * q]), V(quads[4 * q + 1]), V(quads[4 * q + 2]), V(quads[4 * q + 3]));
@@ -713,15 +716,19 @@ void check_tilted(const std::string &tag, const Grid2 &g, const std::vector<doub
     }
     worst = std::fmax(worst, d);
   }
-  CHECK_MSG(worst <= tol * extent, tag << ": a boundary vertex is " << worst / extent << " (relative) off the boundary");
+  CHECK_MSG(worst <= tol * extent,
+            tag << ": a boundary vertex is " << worst / extent << " (relative) off the boundary");
 }
 
 void write_obj(const std::string &path, const std::vector<double> &xyz, const std::vector<std::uint32_t> &quads) {
   std::FILE *f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
-  for (std::size_t i = 0; i < xyz.size() / 3; ++i) std::fprintf(f, "v %.17g %.17g %.17g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+    std::fprintf(f, "v %.17g %.17g %.17g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  }
   for (std::size_t q = 0; q < quads.size() / 4; ++q) {
-    std::fprintf(f, "f %u %u %u %u\n", quads[4 * q] + 1, quads[4 * q + 1] + 1, quads[4 * q + 2] + 1, quads[4 * q + 3] + 1);
+    const std::uint32_t *c = &quads[4 * q];
+    std::fprintf(f, "f %u %u %u %u\n", c[0] + 1, c[1] + 1, c[2] + 1, c[3] + 1);
   }
   std::fclose(f);
 }
@@ -746,7 +753,8 @@ void test_tilted_plane() {
   CHECK_MSG(q0.inverted > 0 && q1.inverted == 0 && q1.min > 0.5 && q1.avg > q0.avg,
             "tilted plane: quality " << q0.min << "/" << q0.avg << " -> " << q1.min << "/" << q1.avg);
   CHECK_MSG(std::fabs(r.output.min - q1.min) < 1e-12 && std::fabs(r.input.min - q0.min) < 1e-12,
-            "tilted plane: report " << r.input.min << " -> " << r.output.min << ", measured " << q0.min << " -> " << q1.min);
+            "tilted plane: report " << r.input.min << " -> " << r.output.min << ", measured " << q0.min << " -> "
+                                    << q1.min);
 
   // The same as the command-line tool, bit for bit.
   const std::string in = g_tmp + "/tilted_in.obj", out = g_tmp + "/tilted_out.obj";

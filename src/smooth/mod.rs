@@ -72,7 +72,35 @@ impl Optimizer {
     /// Optimizes `mesh` (which must have the connectivity this optimizer was built for). The
     /// optional `progress` callback runs after every sweep; returning `false` cancels, keeping
     /// the best positions reached so far.
+    ///
+    /// The run works on coordinates normalized to the mesh's bounding box
+    /// ([`crate::normalization`]), so its result does not depend on the mesh's units: scaled by
+    /// a power of two it is the same bit for bit. Vertices that do not move keep their
+    /// coordinates exactly; the report's statistics are those of the coordinates given and
+    /// returned.
     pub fn run(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<Report> {
+        let frame = crate::normalization::Normalization::new(mesh.points(), mesh.quads());
+        let original = frame.normalize(mesh.points_mut())?;
+        let result = self.run_normalized(mesh, options, progress);
+        frame.restore(mesh.points_mut(), &original);
+        let mut report = result?;
+        if frame.origin() != DVec2::ZERO {
+            // Translating rounded the coordinates: report the quality of the actual ones.
+            report.input = QualityStats::from_values(&crate::quality::quad_values(&original, mesh.quads()));
+            report.output = mesh.quality();
+        }
+        let fidelity = &mut report.fidelity;
+        fidelity.max_deviation = frame.length_to_original(fidelity.max_deviation);
+        fidelity.hausdorff = frame.length_to_original(fidelity.hausdorff);
+        Ok(report)
+    }
+
+    fn run_normalized(
         &self,
         mesh: &mut QuadMesh,
         options: &Options,

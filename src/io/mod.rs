@@ -212,8 +212,11 @@ pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError
     read_mesh_str(&String::from_utf8_lossy(bytes), format)
 }
 
-/// Reads a mesh from text. Never panics, whatever the text.
+/// Reads a mesh from text (a leading UTF-8 byte-order mark is skipped). Never panics,
+/// whatever the text.
 pub fn read_mesh_str(text: &str, format: Format) -> Result<MeshData, IoError> {
+    // Editors on Windows start UTF-8 files with a BOM; it is not part of the first token.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let data = match format {
         Format::Obj => obj::read(text)?,
         Format::Off => off::read(text)?,

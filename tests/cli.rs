@@ -332,3 +332,61 @@ fn a_closed_stdout_ends_the_output_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(0), "{stderr}");
 }
+
+#[test]
+fn usage_errors_are_one_line_with_the_prefix() {
+    let dir = scratch("usage");
+    let good = dir.join("good.obj");
+    io::write_mesh(&good, &jittered_grid(3)).unwrap();
+    let g = s(&good);
+    let cases: [(&[&str], &str); 7] = [
+        (&["optimise", g], "unrecognized subcommand 'optimise'; tip: a similar subcommand exists: 'optimize'"),
+        (&["optimize", g], "the following required arguments were not provided: --output <OUTPUT>"),
+        (&["optimize", g, "-o", "x.vtk", "--bogus"], "unexpected argument '--bogus'"),
+        (&["optimize", g, "-o", "x.vtk", "--max-iter", "many"], "invalid value 'many' for '--max-iter"),
+        (&["optimize", g, "-o", "x.vtk", "--format", "stl"], "unknown mesh format 'stl'"),
+        (&["--threads", "0", "quality", g], "'0' is not a number of threads"),
+        (&["compare"], "required arguments were not provided"),
+    ];
+    for (args, needle) in cases {
+        let out = quadopt(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("quadopt: error: ") && err.contains(needle), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+    // Help and version are not errors.
+    let out = quadopt(&["--help"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8(out.stdout).unwrap().contains("--threads"));
+    let out = quadopt(&["--version"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8(out.stdout).unwrap().starts_with("quadopt "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn threads_give_bit_identical_files_and_no_progress_without_a_terminal() {
+    let dir = scratch("threads");
+    let input = dir.join("holes.vtk");
+    let out = quadopt(&["generate", "-o", s(&input), "--quads", "3000", "--jitter", "0.45"]);
+    assert!(out.status.success());
+    let mut files = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let output = dir.join(format!("out{threads}.vtk"));
+        let out = quadopt(&["--threads", threads, "optimize", s(&input), "-o", s(&output)]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        // Not a terminal: no progress bar, nothing at all on stderr.
+        assert!(out.stderr.is_empty(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+        files.push(std::fs::read(&output).unwrap());
+    }
+    assert!(files[0] != std::fs::read(&input).unwrap(), "the mesh was optimized");
+    assert!(files[1] == files[0] && files[2] == files[0], "outputs differ between thread counts");
+    // The option also goes after the subcommand.
+    let output = dir.join("after.vtk");
+    let out = quadopt(&["optimize", s(&input), "-o", s(&output), "--threads", "2", "--json"]);
+    assert!(out.status.success() && out.stderr.is_empty());
+    assert!(std::fs::read(&output).unwrap() == files[0]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -340,7 +340,10 @@ fn usage_errors_are_one_line_with_the_prefix() {
     io::write_mesh(&good, &jittered_grid(3)).unwrap();
     let g = s(&good);
     let cases: [(&[&str], &str); 7] = [
-        (&["optimise", g], "unrecognized subcommand 'optimise'; tip: a similar subcommand exists: 'optimize'"),
+        (
+            &["optimise", g],
+            "unrecognized subcommand 'optimise'; tip: a similar subcommand exists: 'optimize'",
+        ),
         (&["optimize", g], "the following required arguments were not provided: --output <OUTPUT>"),
         (&["optimize", g, "-o", "x.vtk", "--bogus"], "unexpected argument '--bogus'"),
         (&["optimize", g, "-o", "x.vtk", "--max-iter", "many"], "invalid value 'many' for '--max-iter"),

@@ -125,7 +125,7 @@ fn a_long_legal_name_works() {
     io::write_mesh(&out, &square()).unwrap();
     assert_eq!(io::read_mesh(&out).unwrap().quads, square().quads);
     io::write_mesh(&out, &square()).unwrap();
-    assert_eq!(names(&dir), [name.clone()]);
+    assert_eq!(names(&dir), std::slice::from_ref(&name));
     // The CLI too.
     let input = dir.join("in.obj");
     io::write_mesh(&input, &square()).unwrap();

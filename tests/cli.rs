@@ -393,3 +393,72 @@ fn threads_give_bit_identical_files_and_no_progress_without_a_terminal() {
     assert!(std::fs::read(&output).unwrap() == files[0]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Runs `quadopt ARGS` on a pseudo-terminal (util-linux `script`), returning the terminal's
+/// output once `until` appears in it (then ending the run) or the run ends; `None` without
+/// `script`.
+fn on_a_terminal(args: &[&str], until: &str) -> Option<String> {
+    use std::io::Read;
+    let command = std::iter::once(env!("CARGO_BIN_EXE_quadopt"))
+        .chain(args.iter().copied())
+        .map(|a| format!("'{a}'"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let mut child = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .ok()?;
+    let mut stdout = child.stdout.take()?;
+    let mut seen = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        match stdout.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(k) => seen.extend_from_slice(&buf[..k]),
+        }
+        if String::from_utf8_lossy(&seen).contains(until) {
+            let _ = child.kill();
+            break;
+        }
+    }
+    let _ = child.wait();
+    Some(String::from_utf8_lossy(&seen).into_owned())
+}
+
+#[test]
+fn a_long_run_on_a_terminal_draws_a_progress_bar_but_not_with_json() {
+    if Command::new("script").arg("--version").output().is_err() {
+        return; // no util-linux script
+    }
+    let dir = scratch("progress");
+    let input = dir.join("holes.vtk");
+    assert!(quadopt(&["generate", "-o", s(&input), "--quads", "20000", "--jitter", "0.45"]).status.success());
+    // tau 0 never converges: the run lasts until the bar is seen (and is then ended).
+    let out = dir.join("out.vtk");
+    let long =
+        ["optimize", s(&input), "-o", s(&out), "--boundary", "fixed", "--tau", "0", "--max-iter", "1000000"];
+    let Some(text) = on_a_terminal(&long, "sweeps") else { return };
+    assert!(text.contains("pass 1/1 [") && text.contains("/1000000 sweeps"), "{text}");
+    // With --json, a run long enough for the bar shows none; the JSON line is all there is.
+    let short = [
+        "optimize",
+        s(&input),
+        "-o",
+        s(&out),
+        "--boundary",
+        "fixed",
+        "--tau",
+        "0",
+        "--max-iter",
+        "150",
+        "--json",
+    ];
+    let text = on_a_terminal(&short, "\u{0}").unwrap();
+    assert!(!text.contains("/150 sweeps") && !text.contains("pass 1/1"), "{text}");
+    let v: Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(v["iterations"].as_u64(), Some(150), "{v}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

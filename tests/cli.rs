@@ -138,14 +138,9 @@ fn fails(args: &[&str], code: i32, needle: &str, output: Option<&Path>) {
     assert_eq!(out.status.code(), Some(code), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains(needle), "{args:?}: {err}");
-    if code == 1 {
-        assert_eq!(err.lines().count(), 1, "one line: {err}");
-        assert!(err.starts_with("quadopt: error: "), "{err}");
-    } else {
-        // clap's usage errors (with a hint after a blank line) or the option range checks.
-        let first = err.lines().next().unwrap();
-        assert!(first.starts_with("error: ") || first.starts_with("quadopt: error: "), "{err}");
-    }
+    // Usage errors (clap's too) and every other error alike: one line with the prefix.
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    assert!(err.starts_with("quadopt: error: "), "{err}");
     if let Some(o) = output {
         assert!(!o.exists(), "{} was created", o.display());
         let leftovers: Vec<_> = std::fs::read_dir(o.parent().unwrap())
@@ -336,4 +331,159 @@ fn a_closed_stdout_ends_the_output_quietly() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(0), "{stderr}");
+}
+
+#[test]
+fn usage_errors_are_one_line_with_the_prefix() {
+    let dir = scratch("usage");
+    let good = dir.join("good.obj");
+    io::write_mesh(&good, &jittered_grid(3)).unwrap();
+    let g = s(&good);
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &["optimise", g],
+            "unrecognized subcommand 'optimise'; tip: a similar subcommand exists: 'optimize'",
+        ),
+        (&["optimize", g], "the following required arguments were not provided: --output <OUTPUT>"),
+        (&["optimize", g, "-o", "x.vtk", "--bogus"], "unexpected argument '--bogus'"),
+        (&["optimize", g, "-o", "x.vtk", "--max-iter", "many"], "invalid value 'many' for '--max-iter"),
+        (&["optimize", g, "-o", "x.vtk", "--format", "stl"], "unknown mesh format 'stl'"),
+        (&["--threads", "0", "quality", g], "'0' is not a number of threads"),
+        (&["compare"], "required arguments were not provided"),
+    ];
+    for (args, needle) in cases {
+        let out = quadopt(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("quadopt: error: ") && err.contains(needle), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+    // Help and version are not errors.
+    let out = quadopt(&["--help"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8(out.stdout).unwrap().contains("--threads"));
+    let out = quadopt(&["--version"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8(out.stdout).unwrap().starts_with("quadopt "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn threads_give_bit_identical_files_and_no_progress_without_a_terminal() {
+    let dir = scratch("threads");
+    let input = dir.join("holes.vtk");
+    let out = quadopt(&["generate", "-o", s(&input), "--quads", "3000", "--jitter", "0.45"]);
+    assert!(out.status.success());
+    let mut files = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let output = dir.join(format!("out{threads}.vtk"));
+        let out = quadopt(&["--threads", threads, "optimize", s(&input), "-o", s(&output)]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        // Not a terminal: no progress bar, nothing at all on stderr.
+        assert!(out.stderr.is_empty(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+        files.push(std::fs::read(&output).unwrap());
+    }
+    assert!(files[0] != std::fs::read(&input).unwrap(), "the mesh was optimized");
+    assert!(files[1] == files[0] && files[2] == files[0], "outputs differ between thread counts");
+    // The option also goes after the subcommand.
+    let output = dir.join("after.vtk");
+    let out = quadopt(&["optimize", s(&input), "-o", s(&output), "--threads", "2", "--json"]);
+    assert!(out.status.success() && out.stderr.is_empty());
+    assert!(std::fs::read(&output).unwrap() == files[0]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs `quadopt ARGS` on a pseudo-terminal (util-linux `script`), returning the terminal's
+/// output once `until` appears in it (then ending the run) or the run ends; `None` without
+/// `script`.
+fn on_a_terminal(args: &[&str], until: &str) -> Option<String> {
+    use std::io::Read;
+    let command = std::iter::once(env!("CARGO_BIN_EXE_quadopt"))
+        .chain(args.iter().copied())
+        .map(|a| format!("'{a}'"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let mut child = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .ok()?;
+    let mut stdout = child.stdout.take()?;
+    let mut seen = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        match stdout.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(k) => seen.extend_from_slice(&buf[..k]),
+        }
+        if String::from_utf8_lossy(&seen).contains(until) {
+            let _ = child.kill();
+            break;
+        }
+    }
+    let _ = child.wait();
+    Some(String::from_utf8_lossy(&seen).into_owned())
+}
+
+#[test]
+fn a_long_run_on_a_terminal_draws_a_progress_bar_but_not_with_json() {
+    if Command::new("script").arg("--version").output().is_err() {
+        return; // no util-linux script
+    }
+    let dir = scratch("progress");
+    let input = dir.join("holes.vtk");
+    assert!(quadopt(&["generate", "-o", s(&input), "--quads", "20000", "--jitter", "0.45"]).status.success());
+    // tau 0 never converges: the run lasts until the bar is seen (and is then ended).
+    let out = dir.join("out.vtk");
+    let long =
+        ["optimize", s(&input), "-o", s(&out), "--boundary", "fixed", "--tau", "0", "--max-iter", "1000000"];
+    let Some(text) = on_a_terminal(&long, "sweeps") else { return };
+    assert!(text.contains("pass 1/1 [") && text.contains("/1000000 sweeps"), "{text}");
+    // With --json, a run long enough for the bar shows none; the JSON line is all there is.
+    let short = [
+        "optimize",
+        s(&input),
+        "-o",
+        s(&out),
+        "--boundary",
+        "fixed",
+        "--tau",
+        "0",
+        "--max-iter",
+        "150",
+        "--json",
+    ];
+    let text = on_a_terminal(&short, "\u{0}").unwrap();
+    assert!(!text.contains("/150 sweeps") && !text.contains("pass 1/1"), "{text}");
+    let v: Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(v["iterations"].as_u64(), Some(150), "{v}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_max_min_stage_and_the_stopping_rule_are_chosen_on_the_command_line() {
+    let dir = scratch("maxmin");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/plate_2holes.vtk");
+    let output = dir.join("out.vtk");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["optimize", s(&input), "-o", s(&output), "--json"];
+        args.extend_from_slice(extra);
+        json_stdout(&quadopt(&args))
+    };
+    let default = run(&[]);
+    let stage = &default["max_min"];
+    let (before, after) = (stage["before"]["min"].as_f64().unwrap(), stage["after"]["min"].as_f64().unwrap());
+    assert!(after > before + 0.01, "the stage raises this mesh's minimum: {stage}");
+    assert_eq!(default["output"]["min"].as_f64(), Some(after), "the output is the stage's");
+    let without = run(&["--no-maxmin"]);
+    assert!(without["max_min"].is_null(), "{without}");
+    assert_eq!(without["output"]["min"].as_f64(), Some(before), "the same sweeps, no stage");
+    // The quality rule stops after fewer sweeps than the energy rule on this mesh.
+    let quality = run(&["--stop", "quality", "--no-maxmin"]);
+    let (q, e) = (quality["iterations"].as_u64().unwrap(), without["iterations"].as_u64().unwrap());
+    assert!(q < e, "quality rule {q} sweeps, energy rule {e}");
+    fails(&["optimize", s(&input), "-o", s(&output), "--stop", "never"], 2, "unknown stopping rule", None);
 }

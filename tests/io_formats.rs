@@ -388,3 +388,32 @@ fn mutated_fixtures_never_panic() {
         }
     }
 }
+
+#[test]
+fn a_byte_order_mark_is_skipped_in_every_format() {
+    // The reported case: a BOM right before the first `v` used to hide that vertex and shift
+    // every index by one.
+    let obj = "\u{feff}v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    let m = io::read_mesh_str(obj, Format::Obj).unwrap();
+    assert_eq!(m.points, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]);
+    assert_eq!(m.quads, [[0, 1, 2, 3]]);
+    let dir = scratch("bom");
+    for format in Format::ALL {
+        let mesh = awkward_mesh();
+        let text = io::write_mesh_string(format, &mesh).unwrap();
+        let plain = io::read_mesh_str(&text, format).unwrap();
+        let with_bom = io::read_mesh_str(&format!("\u{feff}{text}"), format).unwrap();
+        assert_eq!(with_bom, plain, "{format:?}");
+        // From a file's bytes too.
+        let path = dir.join(format!("bom.{}", format.extension()));
+        std::fs::write(&path, [b"\xef\xbb\xbf".as_slice(), text.as_bytes()].concat()).unwrap();
+        let from_file = io::read_mesh(&path).unwrap();
+        assert_eq!(bits(&from_file.points), bits(&mesh.points), "{format:?}");
+        assert_eq!(from_file.quads, mesh.quads, "{format:?}");
+    }
+    // Only one leading BOM is a BOM: a second one makes `\u{feff}v` an unknown statement,
+    // and the face then refers to a missing vertex, an error rather than a shifted mesh.
+    let twice = format!("\u{feff}{obj}");
+    assert!(io::read_mesh_str(&twice, Format::Obj).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

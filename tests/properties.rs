@@ -332,6 +332,8 @@ fn valid_options() -> impl Strategy<Value = Options> {
                 lambda,
                 // Both rules, drawn with the energy rule's own flag.
                 stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
+                // With and without the max-min stage, drawn with the guard's flag.
+                max_min: guard,
                 tau,
                 tau_absolute: tau_abs,
                 max_iterations: iters,
@@ -375,6 +377,8 @@ fn any_options() -> impl Strategy<Value = Options> {
                 lambda,
                 // Both rules, drawn with the energy rule's own flag.
                 stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
+                // With and without the max-min stage, drawn with the guard's flag.
+                max_min: guard,
                 tau,
                 tau_absolute: tau_abs,
                 max_iterations: iters,
@@ -444,7 +448,8 @@ fn check_preserved(before: &QuadMesh, after: &QuadMesh, options: &Options) -> Re
 
 /// Everything in a report except the wall-clock time.
 fn report_without_time(r: &Report) -> Report {
-    Report { seconds: 0.0, ..r.clone() }
+    let max_min = r.max_min.map(|g| quadopt::MaxMinGain { seconds: 0.0, ..g });
+    Report { seconds: 0.0, max_min, ..r.clone() }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -897,6 +902,7 @@ fn huge_coordinate_on_the_boundary_does_not_panic() {
         boundary: BoundaryMode::Auto,
         lambda: 3.7857706061224e-270,
         stop: StopRule::Energy,
+        max_min: true,
         tau: 2.5193042437317942e93,
         tau_absolute: true,
         max_iterations: 32,

@@ -1,7 +1,9 @@
 //! A small tokenizer shared by the readers: whitespace-separated tokens that remember their
 //! line, with typed accessors that turn every problem into an [`IoError::Parse`] naming the
-//! line. Nothing here indexes out of bounds or allocates according to a count read from the
-//! file, so the readers built on it cannot panic or exhaust memory on arbitrary input.
+//! line. Tokens are found lazily, one at a time, as slices of the text (nothing is collected
+//! per token, so reading takes memory for the mesh, not for the file's words). Nothing here
+//! indexes out of bounds or allocates according to a count read from the file, so the readers
+//! built on it cannot panic or exhaust memory on arbitrary input.
 
 use super::IoError;
 
@@ -14,68 +16,133 @@ pub(crate) struct Tok<'a> {
 
 /// A cursor over the tokens of a text.
 pub(crate) struct Lexer<'a> {
-    toks: Vec<Tok<'a>>,
-    pos: usize,
-    /// Line reported for errors at the end of the input.
-    last_line: usize,
+    /// The text after the current line.
+    rest: &'a str,
+    /// What is left of the current line (its comment removed).
+    line: &'a str,
+    /// The current line's number.
+    line_no: usize,
+    /// The number of the text's first line.
+    first_line: usize,
+    comment: Option<char>,
+    /// The next token, once found.
+    peeked: Option<Tok<'a>>,
+    /// Line of the last token consumed.
+    prev_line: Option<usize>,
+    /// The tokens of the last [`Lexer::rest_of_line`] (kept to reuse the allocation).
+    line_toks: Vec<Tok<'a>>,
+}
+
+fn is_space(c: char) -> bool {
+    c.is_ascii_whitespace()
 }
 
 impl<'a> Lexer<'a> {
-    /// Tokenizes `lines` (numbered from `first_line`), dropping everything after `comment` on
-    /// each line.
-    pub fn new(lines: impl Iterator<Item = &'a str>, first_line: usize, comment: Option<char>) -> Self {
-        let mut toks = Vec::new();
-        let mut last_line = first_line;
-        for (i, line) in lines.enumerate() {
-            let line_no = first_line + i;
-            last_line = line_no;
-            let body = match comment.and_then(|c| line.find(c)) {
-                Some(k) => &line[..k],
-                None => line,
-            };
-            toks.extend(body.split_ascii_whitespace().map(|s| Tok { s, line: line_no }));
+    /// A lexer over `text`, whose first line is numbered `first_line`; everything after
+    /// `comment` on a line is dropped.
+    pub fn new(text: &'a str, first_line: usize, comment: Option<char>) -> Self {
+        Lexer {
+            rest: text,
+            line: "",
+            // No line has been read yet: the first one read is `first_line`.
+            line_no: first_line.wrapping_sub(1),
+            first_line,
+            comment,
+            peeked: None,
+            prev_line: None,
+            line_toks: Vec::new(),
         }
-        Lexer { toks, pos: 0, last_line }
     }
 
-    /// Tokens not consumed yet.
-    pub fn remaining(&self) -> usize {
-        self.toks.len() - self.pos
+    /// The next whole line, raw (for headers and titles); `None` at the end of the text.
+    /// Only valid before any token is read from that line.
+    pub fn raw_line(&mut self) -> Option<&'a str> {
+        debug_assert!(self.peeked.is_none() && self.line.is_empty());
+        if self.rest.is_empty() {
+            return None;
+        }
+        let (line, rest) = match self.rest.find('\n') {
+            Some(k) => (&self.rest[..k], &self.rest[k + 1..]),
+            None => (self.rest, ""),
+        };
+        self.rest = rest;
+        self.line_no = self.line_no.wrapping_add(1);
+        Some(line.strip_suffix('\r').unwrap_or(line))
+    }
+
+    /// Finds the next token if it is not known yet.
+    fn fill(&mut self) {
+        if self.peeked.is_some() {
+            return;
+        }
+        loop {
+            let line = self.line.trim_start_matches(is_space);
+            if !line.is_empty() {
+                let end = line.find(is_space).unwrap_or(line.len());
+                self.peeked = Some(Tok { s: &line[..end], line: self.line_no });
+                self.line = &line[end..];
+                return;
+            }
+            self.line = "";
+            let Some(next) = self.raw_line() else { return };
+            self.line = match self.comment.and_then(|c| next.find(c)) {
+                Some(k) => &next[..k],
+                None => next,
+            };
+        }
+    }
+
+    /// The last line of the text, once the end is reached (for end-of-file errors).
+    fn end_line(&self) -> usize {
+        self.line_no.max(self.first_line)
+    }
+
+    /// An upper bound of the number of tokens left (a token and its separator take at
+    /// least two bytes), for bounding capacities by what the input can actually hold.
+    pub fn max_tokens(&self) -> usize {
+        (self.rest.len() + self.line.len()) / 2 + 1 + usize::from(self.peeked.is_some())
     }
 
     /// The next token without consuming it.
-    pub fn peek(&self) -> Option<Tok<'a>> {
-        self.toks.get(self.pos).copied()
+    pub fn peek(&mut self) -> Option<Tok<'a>> {
+        self.fill();
+        self.peeked
     }
 
     /// The line of the next token (or the last line at the end).
-    pub fn line(&self) -> usize {
-        self.peek().map_or(self.last_line, |t| t.line)
+    pub fn line(&mut self) -> usize {
+        match self.peek() {
+            Some(t) => t.line,
+            None => self.end_line(),
+        }
     }
 
     /// An error at the current position.
-    pub fn error(&self, message: impl Into<String>) -> IoError {
+    pub fn error(&mut self, message: impl Into<String>) -> IoError {
         IoError::Parse { line: self.line(), message: message.into() }
+    }
+
+    /// The end-of-file error, `what` naming what was expected.
+    fn eof(&self, what: &str) -> IoError {
+        IoError::Parse { line: self.end_line(), message: format!("unexpected end of file (expected {what})") }
     }
 
     /// The next token; `what` names what was expected, for the end-of-file error.
     pub fn next(&mut self, what: &str) -> Result<Tok<'a>, IoError> {
-        match self.toks.get(self.pos) {
-            Some(&t) => {
-                self.pos += 1;
+        self.fill();
+        match self.peeked.take() {
+            Some(t) => {
+                self.prev_line = Some(t.line);
                 Ok(t)
             }
-            None => Err(IoError::Parse {
-                line: self.last_line,
-                message: format!("unexpected end of file (expected {what})"),
-            }),
+            None => Err(self.eof(what)),
         }
     }
 
     /// Consumes the next token if it equals `word` (ASCII case-insensitive).
     pub fn eat(&mut self, word: &str) -> bool {
         if self.peek().is_some_and(|t| t.s.eq_ignore_ascii_case(word)) {
-            self.pos += 1;
+            self.prev_line = self.peeked.take().map(|t| t.line);
             true
         } else {
             false
@@ -96,25 +163,25 @@ impl<'a> Lexer<'a> {
 
     /// Skips `n` tokens, failing if fewer are left.
     pub fn skip(&mut self, n: usize, what: &str) -> Result<(), IoError> {
-        if n > self.remaining() {
-            self.pos = self.toks.len();
-            return Err(IoError::Parse {
-                line: self.last_line,
-                message: format!("unexpected end of file (expected {n} values of {what})"),
-            });
+        for _ in 0..n {
+            if self.peek().is_none() {
+                return Err(self.eof(&format!("{n} values of {what}")));
+            }
+            self.next(what)?;
         }
-        self.pos += n;
         Ok(())
     }
 
     /// Every remaining token on the line of the next token (at least one).
     pub fn rest_of_line(&mut self, what: &str) -> Result<&[Tok<'a>], IoError> {
         let first = self.next(what)?;
-        let start = self.pos - 1;
-        while self.peek().is_some_and(|t| t.line == first.line) {
-            self.pos += 1;
-        }
-        Ok(&self.toks[start..self.pos])
+        self.line_toks.clear();
+        self.line_toks.push(first);
+        // The rest of the current line, without reading the next one.
+        let toks = self.line.split_ascii_whitespace().map(|s| Tok { s, line: first.line });
+        self.line_toks.extend(toks);
+        self.line = "";
+        Ok(&self.line_toks)
     }
 
     /// Skips tokens up to and including the first one equal to `word`.
@@ -127,12 +194,27 @@ impl<'a> Lexer<'a> {
     }
 
     /// Whether there is a blank line between the previous token and the next one.
-    pub fn blank_line_before_next(&self) -> bool {
-        match (self.pos.checked_sub(1).and_then(|p| self.toks.get(p)), self.peek()) {
-            (Some(a), Some(b)) => b.line > a.line + 1,
+    pub fn blank_line_before_next(&mut self) -> bool {
+        match (self.prev_line, self.peek()) {
+            (Some(a), Some(b)) => b.line > a + 1,
             _ => true,
         }
     }
+}
+
+/// Appends to a vector that grows with the input, failing with
+/// [`Error::OutOfMemory`](crate::Error::OutOfMemory) instead of aborting.
+pub(crate) fn try_push<T>(v: &mut Vec<T>, item: T, what: &'static str) -> Result<(), IoError> {
+    if v.len() == v.capacity() {
+        v.try_reserve(1).map_err(|_| crate::alloc::out_of_memory::<T>(what, v.len().saturating_mul(2)))?;
+    }
+    v.push(item);
+    Ok(())
+}
+
+/// An empty vector with room for `count` elements, or an out-of-memory error.
+pub(crate) fn try_vec<T>(count: usize, what: &'static str) -> Result<Vec<T>, IoError> {
+    Ok(crate::alloc::try_with_capacity(count, what)?)
 }
 
 /// A token as a non-negative integer.

@@ -28,6 +28,7 @@
 //!
 //! Vertices used by no quad are kept as they are, in their place.
 
+pub mod output;
 pub mod planar;
 
 mod lex;
@@ -36,6 +37,7 @@ mod obj;
 mod off;
 mod vtk;
 
+pub use output::{remove_pending_temporary_files, write_file, write_output};
 pub use planar::{PlanarFrame, PlanarMesh};
 
 use std::fs;
@@ -210,8 +212,11 @@ pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError
     read_mesh_str(&String::from_utf8_lossy(bytes), format)
 }
 
-/// Reads a mesh from text. Never panics, whatever the text.
+/// Reads a mesh from text (a leading UTF-8 byte-order mark is skipped). Never panics,
+/// whatever the text.
 pub fn read_mesh_str(text: &str, format: Format) -> Result<MeshData, IoError> {
+    // Editors on Windows start UTF-8 files with a BOM; it is not part of the first token.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let data = match format {
         Format::Obj => obj::read(text)?,
         Format::Off => off::read(text)?,
@@ -226,13 +231,7 @@ pub fn read_mesh_str(text: &str, format: Format) -> Result<MeshData, IoError> {
 pub fn write_mesh_to(writer: &mut dyn Write, format: Format, data: &MeshData) -> Result<(), IoError> {
     data.check()?;
     let mut w = BufWriter::new(writer);
-    let result = match format {
-        Format::Obj => obj::write(&mut w, data),
-        Format::Off => off::write(&mut w, data),
-        Format::Vtk => vtk::write(&mut w, data),
-        Format::Msh => msh::write(&mut w, data),
-    };
-    result.and_then(|()| w.flush()).map_err(IoError::Stream)
+    write_body(&mut w, format, data).and_then(|()| w.flush()).map_err(IoError::Stream)
 }
 
 /// Writes a mesh to text in `format`.
@@ -243,35 +242,28 @@ pub fn write_mesh_string(format: Format, data: &MeshData) -> Result<String, IoEr
     String::from_utf8(buf).map_err(|e| IoError::Stream(std::io::Error::other(e)))
 }
 
-/// Writes a mesh file, the format chosen by the extension. Atomic: the text goes to a
-/// temporary file in the same directory, which is renamed over `path` only once complete, so
-/// `path` is never left half-written.
+/// Writes a mesh file, the format chosen by the extension; see [`write_mesh_as`].
 pub fn write_mesh(path: impl AsRef<Path>, data: &MeshData) -> Result<(), IoError> {
     let path = path.as_ref();
-    let format = Format::from_path(path)?;
+    write_mesh_as(path, Format::from_path(path)?, data)
+}
+
+/// Writes a mesh file in `format`, whatever its name: a regular file is replaced atomically
+/// (never left half-written, its permissions kept), a symbolic link's target is replaced, a
+/// device or FIFO is written in place with every write checked ([`output`] has the details).
+pub fn write_mesh_as(path: impl AsRef<Path>, format: Format, data: &MeshData) -> Result<(), IoError> {
     data.check()?;
-    let file_error = |source| IoError::File { path: path.into(), action: "write", source };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut file = fs::File::create(&tmp)?;
-        match write_mesh_to(&mut file, format, data) {
-            Err(IoError::Stream(e)) => return Err(e),
-            Err(e) => return Err(std::io::Error::other(e.to_string())),
-            Ok(()) => {}
-        }
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+    output::write_output(path.as_ref(), |w| write_body(w, format, data))
+}
+
+/// The text of a checked mesh.
+fn write_body(w: &mut dyn Write, format: Format, data: &MeshData) -> std::io::Result<()> {
+    match format {
+        Format::Obj => obj::write(w, data),
+        Format::Off => off::write(w, data),
+        Format::Vtk => vtk::write(w, data),
+        Format::Msh => msh::write(w, data),
     }
-    result.map_err(file_error)
 }
 
 /// Formats a coordinate with shortest round-trip precision (`1.0`, `0.1`, `1e-7`, `-0.0`).

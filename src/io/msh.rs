@@ -1,6 +1,6 @@
 //! Gmsh MSH, ASCII, versions 2.x and 4.1 (see the module docs of [`crate::io`]).
 
-use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize};
+use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize, try_push, try_vec};
 use super::{IoError, MeshData, MshVersion, Num};
 use std::collections::HashMap;
 use std::io::Write;
@@ -8,9 +8,78 @@ use std::io::Write;
 /// Gmsh's element type number of a 4-node quad.
 const MSH_QUAD: usize = 3;
 
+/// Node tags to point indices. The tags 1, 2, 3, ... in order (what Gmsh and the writer
+/// here produce) need no map; any other tag goes to a hash map.
+#[derive(Default)]
+struct NodeTags {
+    /// Tags `1..=dense` are points `0..dense`.
+    dense: usize,
+    other: HashMap<u64, u32>,
+}
+
+impl NodeTags {
+    fn get(&self, tag: u64) -> Option<u32> {
+        if (1..=self.dense as u64).contains(&tag) {
+            return Some((tag - 1) as u32);
+        }
+        self.other.get(&tag).copied()
+    }
+
+    /// Files `tag` as point `index`; false if the tag is already taken.
+    fn insert(&mut self, tag: u64, index: u32) -> Result<bool, IoError> {
+        if (1..=self.dense as u64).contains(&tag) {
+            return Ok(false);
+        }
+        if self.other.is_empty() && tag == self.dense as u64 + 1 && index as usize == self.dense {
+            self.dense += 1;
+            return Ok(true);
+        }
+        self.other
+            .try_reserve(1)
+            .map_err(|_| crate::alloc::out_of_memory::<(u64, u32)>("node tags", self.other.len() + 1))?;
+        Ok(self.other.insert(tag, index).is_none())
+    }
+}
+
+/// Quads as read: resolved at once when the nodes are known (they come first in every file
+/// Gmsh writes), else kept by node tag until the end.
+#[derive(Default)]
+struct Elements {
+    quads: Vec<[u32; 4]>,
+    /// (line, element index, node tags) of the quads read before the nodes.
+    raw: Vec<(usize, usize, [u64; 4])>,
+}
+
+impl Elements {
+    /// Files quad `element`, resolving its nodes now if `tags` (the nodes read) is given.
+    fn push(
+        &mut self,
+        tags: Option<&NodeTags>,
+        line: usize,
+        element: usize,
+        q: [u64; 4],
+    ) -> Result<(), IoError> {
+        match tags {
+            Some(tags) => try_push(&mut self.quads, resolve(tags, line, element, q)?, "quads"),
+            None => try_push(&mut self.raw, (line, element, q), "quads"),
+        }
+    }
+}
+
+fn resolve(tags: &NodeTags, line: usize, element: usize, q: [u64; 4]) -> Result<[u32; 4], IoError> {
+    let mut out = [0u32; 4];
+    for c in 0..4 {
+        out[c] = tags.get(q[c]).ok_or_else(|| IoError::Parse {
+            line,
+            message: format!("element {element} refers to node {}, which does not exist", q[c]),
+        })?;
+    }
+    Ok(out)
+}
+
 /// Reads an MSH text.
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
-    let mut lex = Lexer::new(text.lines(), 1, None);
+    let mut lex = Lexer::new(text, 1, None);
     let t = lex.next("$MeshFormat")?;
     if t.s != "$MeshFormat" {
         return Err(err(t, "not a Gmsh MSH file (no $MeshFormat)".into()));
@@ -29,9 +98,8 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     expect(&mut lex, "$EndMeshFormat")?;
 
     let mut points: Vec<[f64; 3]> = Vec::new();
-    let mut tags: HashMap<u64, u32> = HashMap::new();
-    // (line, element index, node tags) of every quad.
-    let mut raw: Vec<(usize, usize, [u64; 4])> = Vec::new();
+    let mut tags = NodeTags::default();
+    let mut elements: Option<Elements> = None;
     let (mut have_nodes, mut have_elements) = (false, false);
     while let Some(t) = lex.peek() {
         lex.next("")?;
@@ -46,11 +114,14 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             }
             "$Elements" if !have_elements => {
                 have_elements = true;
+                let mut e = Elements::default();
+                let known = have_nodes.then_some(&tags);
                 match version {
-                    MshVersion::V2_2 => read_elements_v2(&mut lex, &mut raw)?,
-                    MshVersion::V4_1 => read_elements_v4(&mut lex, &mut raw)?,
+                    MshVersion::V2_2 => read_elements_v2(&mut lex, known, &mut e)?,
+                    MshVersion::V4_1 => read_elements_v4(&mut lex, known, &mut e)?,
                 }
                 expect(&mut lex, "$EndElements")?;
+                elements = Some(e);
             }
             s if s.starts_with('$') && !s.starts_with("$End") => {
                 let end = format!("$End{}", &s[1..]);
@@ -62,19 +133,11 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     if !have_nodes {
         return Err(lex.error("the file has no $Nodes section"));
     }
-    if !have_elements {
+    let Some(Elements { mut quads, raw, .. }) = elements else {
         return Err(lex.error("the file has no $Elements section"));
-    }
-    let mut quads = Vec::with_capacity(raw.len());
+    };
     for (line, element, q) in raw {
-        let mut out = [0u32; 4];
-        for c in 0..4 {
-            out[c] = *tags.get(&q[c]).ok_or_else(|| IoError::Parse {
-                line,
-                message: format!("element {element} refers to node {}, which does not exist", q[c]),
-            })?;
-        }
-        quads.push(out);
+        try_push(&mut quads, resolve(&tags, line, element, q)?, "quads")?;
     }
     Ok(MeshData { points, quads, fixed: None, msh_version: Some(version), vtk_polydata: false })
 }
@@ -101,16 +164,20 @@ fn add_node(
     node: u64,
     p: [f64; 3],
     points: &mut Vec<[f64; 3]>,
-    tags: &mut HashMap<u64, u32>,
+    tags: &mut NodeTags,
 ) -> Result<(), IoError> {
     if points.len() >= u32::MAX as usize {
         return Err(err(t, "too many nodes".into()));
     }
-    if tags.insert(node, points.len() as u32).is_some() {
+    if !tags.insert(node, points.len() as u32)? {
         return Err(err(t, format!("node {node} is defined twice")));
     }
-    points.push(p);
-    Ok(())
+    try_push(points, p, "points")
+}
+
+/// Room for `n` more points, or an out-of-memory error.
+fn reserve(points: &mut Vec<[f64; 3]>, n: usize) -> Result<(), IoError> {
+    points.try_reserve_exact(n).map_err(|_| crate::alloc::out_of_memory::<[f64; 3]>("points", n).into())
 }
 
 /// A coordinate triple from a line's tokens.
@@ -128,10 +195,10 @@ fn xyz(line: &[Tok<'_>]) -> Result<[f64; 3], IoError> {
 fn read_nodes_v2(
     lex: &mut Lexer<'_>,
     points: &mut Vec<[f64; 3]>,
-    tags: &mut HashMap<u64, u32>,
+    tags: &mut NodeTags,
 ) -> Result<(), IoError> {
     let n = lex.usize("the node count")?;
-    points.reserve(n.min(lex.remaining() / 4));
+    reserve(points, n.min(lex.max_tokens() / 4))?;
     for _ in 0..n {
         let line = lex.rest_of_line("a node")?;
         if line.len() < 4 {
@@ -147,22 +214,22 @@ fn read_nodes_v2(
 fn read_nodes_v4(
     lex: &mut Lexer<'_>,
     points: &mut Vec<[f64; 3]>,
-    tags: &mut HashMap<u64, u32>,
+    tags: &mut NodeTags,
 ) -> Result<(), IoError> {
     let blocks = lex.usize("the entity block count")?;
     let total = lex.usize("the node count")?;
     lex.usize("the minimum node tag")?;
     lex.usize("the maximum node tag")?;
-    points.reserve(total.min(lex.remaining() / 3));
+    reserve(points, total.min(lex.max_tokens() / 4))?;
     for _ in 0..blocks {
         lex.usize("the entity dimension")?;
         lex.next("the entity tag")?;
         lex.usize("the parametric flag")?;
         let n = lex.usize("the block's node count")?;
-        let mut block_tags = Vec::with_capacity(n.min(lex.remaining()));
+        let mut block_tags = try_vec(n.min(lex.max_tokens()), "node tags")?;
         for _ in 0..n {
             let t = lex.next("a node tag")?;
-            block_tags.push((tag(t, "a node tag")?, t));
+            try_push(&mut block_tags, (tag(t, "a node tag")?, t), "node tags")?;
         }
         for &(node, t) in &block_tags {
             let line = lex.rest_of_line("node coordinates")?;
@@ -181,7 +248,8 @@ fn element(
     index: usize,
     ty: usize,
     nodes: &[Tok<'_>],
-    raw: &mut Vec<(usize, usize, [u64; 4])>,
+    tags: Option<&NodeTags>,
+    elements: &mut Elements,
 ) -> Result<(), IoError> {
     match ty {
         MSH_QUAD => {
@@ -195,8 +263,7 @@ fn element(
             for c in 0..4 {
                 q[c] = tag(nodes[c], "a node tag")?;
             }
-            raw.push((line, index, q));
-            Ok(())
+            elements.push(tags, line, index, q)
         }
         // Point, and lines of order 1 to 5: corners and boundary curves.
         15 | 1 | 8 | 26 | 27 | 28 => Ok(()),
@@ -215,7 +282,11 @@ fn element(
     }
 }
 
-fn read_elements_v2(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>) -> Result<(), IoError> {
+fn read_elements_v2(
+    lex: &mut Lexer<'_>,
+    tags: Option<&NodeTags>,
+    elements: &mut Elements,
+) -> Result<(), IoError> {
     let n = lex.usize("the element count")?;
     for index in 0..n {
         let line = lex.rest_of_line("an element")?;
@@ -232,12 +303,16 @@ fn read_elements_v2(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>
             line: l,
             message: format!("the element has fewer than {ntags} tags"),
         })?;
-        element(l, index, ty, nodes, raw)?;
+        element(l, index, ty, nodes, tags, elements)?;
     }
     Ok(())
 }
 
-fn read_elements_v4(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>) -> Result<(), IoError> {
+fn read_elements_v4(
+    lex: &mut Lexer<'_>,
+    tags: Option<&NodeTags>,
+    elements: &mut Elements,
+) -> Result<(), IoError> {
     let blocks = lex.usize("the entity block count")?;
     let total = lex.usize("the element count")?;
     lex.usize("the minimum element tag")?;
@@ -250,7 +325,7 @@ fn read_elements_v4(lex: &mut Lexer<'_>, raw: &mut Vec<(usize, usize, [u64; 4])>
         let n = lex.usize("the block's element count")?;
         for _ in 0..n {
             let line = lex.rest_of_line("an element")?;
-            element(line[0].line, index, ty, &line[1..], raw)?;
+            element(line[0].line, index, ty, &line[1..], tags, elements)?;
             index += 1;
         }
     }

@@ -1,6 +1,6 @@
 //! Wavefront OBJ: `v` and 4-vertex `f` statements (see the module docs of [`crate::io`]).
 
-use super::lex::{Lexer, Tok, clip, parse_f64, parse_i64};
+use super::lex::{Tok, clip, parse_f64, parse_i64, try_push};
 use super::{IoError, MeshData, Num};
 use std::io::Write;
 
@@ -8,73 +8,91 @@ use std::io::Write;
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let mut points: Vec<[f64; 3]> = Vec::new();
     let mut quads: Vec<[u32; 4]> = Vec::new();
-    // (line, corner values as written) of every quad, resolved once all vertices are known.
-    let mut raw: Vec<(usize, [i64; 4], usize)> = Vec::new();
-    let mut element = 0usize;
+    // The quads whose indices cannot be resolved yet (a vertex not defined so far, or out of
+    // range): (line, quad, vertices defined at the quad, indices as written), checked at the
+    // end as every quad would be, so the error names the first bad quad and the final count.
+    let mut unresolved: Vec<(usize, usize, usize, [i64; 4])> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
-        let mut lex = Lexer::new(std::iter::once(line), line_no, Some('#'));
-        let Some(key) = lex.peek() else { continue };
-        lex.next("a statement")?;
-        let args: Vec<Tok> = std::iter::from_fn(|| lex.next("").ok()).collect();
-        match key.s {
+        let body = line.split('#').next().unwrap_or("");
+        let mut words = body.split_ascii_whitespace();
+        let Some(key) = words.next() else { continue };
+        let tok = |s| Tok { s, line: line_no };
+        match key {
             "v" => {
-                if args.len() < 2 {
+                let mut xyz = [0.0; 3];
+                let mut count = 0;
+                for (c, w) in words.by_ref().take(3).enumerate() {
+                    xyz[c] = parse_f64(tok(w), "a coordinate")?;
+                    count += 1;
+                }
+                if count < 2 {
                     return Err(IoError::Parse {
                         line: line_no,
                         message: "a vertex needs x, y and z".into(),
                     });
                 }
-                let x = parse_f64(args[0], "a coordinate")?;
-                let y = parse_f64(args[1], "a coordinate")?;
-                let z = match args.get(2) {
-                    Some(&t) => parse_f64(t, "a coordinate")?,
-                    None => 0.0,
-                };
-                points.push([x, y, z]);
+                // Further values (w, or colours) are ignored; a missing z is 0.
+                try_push(&mut points, xyz, "points")?;
             }
             "f" => {
-                if args.len() != 4 {
-                    let kind = match args.len() {
-                        0..=2 => format!("face with {} vertices", args.len()),
+                let corners: [Option<&str>; 5] = std::array::from_fn(|_| words.next());
+                let count = corners.iter().filter(|c| c.is_some()).count() + words.count();
+                if count != 4 {
+                    let kind = match count {
+                        0..=2 => format!("face with {count} vertices"),
                         3 => "triangle".to_string(),
                         n => format!("polygon with {n} vertices"),
                     };
-                    return Err(IoError::NonQuad { line: line_no, cell: element, kind });
+                    return Err(IoError::NonQuad { line: line_no, cell: quads.len(), kind });
                 }
-                let mut q = [0i64; 4];
-                for (c, t) in args.iter().enumerate() {
-                    let head = Tok { s: t.s.split('/').next().unwrap_or(""), line: line_no };
-                    q[c] = parse_i64(head, "a vertex index")?;
+                let defined = points.len();
+                let mut raw = [0i64; 4];
+                for (c, w) in corners.iter().take(4).enumerate() {
+                    let head = w.unwrap_or("").split('/').next().unwrap_or("");
+                    raw[c] = parse_i64(tok(head), "a vertex index")?;
                 }
-                raw.push((line_no, q, points.len()));
-                element += 1;
+                let q = match resolve(raw, defined, defined) {
+                    Some(q) => q,
+                    None => {
+                        try_push(&mut unresolved, (line_no, quads.len(), defined, raw), "quads")?;
+                        [0; 4]
+                    }
+                };
+                try_push(&mut quads, q, "quads")?;
             }
             "l" | "p" => {
-                let kind = if key.s == "l" { "line" } else { "point element" };
-                return Err(IoError::NonQuad { line: line_no, cell: element, kind: kind.into() });
+                let kind = if key == "l" { "line" } else { "point element" };
+                return Err(IoError::NonQuad { line: line_no, cell: quads.len(), kind: kind.into() });
             }
             _ => {}
         }
     }
     let n = points.len();
-    for (line, q, defined) in raw {
-        let mut out = [0u32; 4];
-        for c in 0..4 {
-            let v = q[c];
-            // Positive: 1-based; negative: relative to the vertices defined so far.
-            let index = if v > 0 { v - 1 } else { defined as i64 + v };
-            if v == 0 || index < 0 || index >= n as i64 || index > u32::MAX as i64 {
-                return Err(IoError::Parse {
-                    line,
-                    message: format!("vertex index {} is out of range ({n} vertices)", clip(&v.to_string())),
-                });
+    for (line, qi, defined, raw) in unresolved {
+        quads[qi] = resolve(raw, defined, n).ok_or_else(|| {
+            let v = raw.into_iter().find(|&v| resolve([v; 4], defined, n).is_none()).unwrap_or(0);
+            IoError::Parse {
+                line,
+                message: format!("vertex index {} is out of range ({n} vertices)", clip(&v.to_string())),
             }
-            out[c] = index as u32;
-        }
-        quads.push(out);
+        })?;
     }
     Ok(MeshData::new(points, quads))
+}
+
+/// The 0-based indices of a face as written (positive: 1-based; negative: relative to the
+/// `defined` vertices before it), if all are below `n`.
+fn resolve(raw: [i64; 4], defined: usize, n: usize) -> Option<[u32; 4]> {
+    let mut q = [0u32; 4];
+    for (c, &v) in raw.iter().enumerate() {
+        let index = if v > 0 { v - 1 } else { (defined as i64).checked_add(v)? };
+        if v == 0 || index < 0 || index >= n as i64 || index > u32::MAX as i64 {
+            return None;
+        }
+        q[c] = index as u32;
+    }
+    Some(q)
 }
 
 /// Writes an OBJ text.

@@ -1,13 +1,13 @@
 //! OFF (Object File Format) and its variants with extra per-vertex values (`COFF`, `NOFF`,
 //! `STOFF`, ...). Only 3D, ASCII files; faces must have 4 vertices.
 
-use super::lex::{Lexer, parse_f64, parse_usize};
+use super::lex::{Lexer, parse_f64, parse_usize, try_push, try_vec};
 use super::{IoError, MeshData, Num};
 use std::io::Write;
 
 /// Reads an OFF text.
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
-    let mut lex = Lexer::new(text.lines(), 1, Some('#'));
+    let mut lex = Lexer::new(text, 1, Some('#'));
     let header = lex.next("the OFF header")?;
     let kind = header.s.strip_suffix("OFF").unwrap_or("");
     let known = ["", "C", "N", "CN", "ST", "STC", "STN", "STCN"];
@@ -29,19 +29,20 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     if nv > u32::MAX as usize {
         return Err(lex.error(format!("{nv} vertices are too many")));
     }
-    let mut points = Vec::with_capacity(nv.min(lex.remaining() / 3));
+    let mut points = try_vec(nv.min(lex.max_tokens() / 3), "points")?;
     for _ in 0..nv {
         let line = lex.rest_of_line("a vertex")?;
         if line.len() < 3 {
             return Err(IoError::Parse { line: line[0].line, message: "a vertex needs x, y and z".into() });
         }
-        points.push([
+        let p = [
             parse_f64(line[0], "a coordinate")?,
             parse_f64(line[1], "a coordinate")?,
             parse_f64(line[2], "a coordinate")?,
-        ]);
+        ];
+        try_push(&mut points, p, "points")?;
     }
-    let mut quads = Vec::with_capacity(nf.min(lex.remaining() / 5));
+    let mut quads = try_vec(nf.min(lex.max_tokens() / 5), "quads")?;
     for face in 0..nf {
         let line = lex.rest_of_line("a face")?;
         let line_no = line[0].line;
@@ -70,7 +71,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             }
             q[c] = v as u32;
         }
-        quads.push(q);
+        try_push(&mut quads, q, "quads")?;
     }
     Ok(MeshData::new(points, quads))
 }

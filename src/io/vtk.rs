@@ -1,28 +1,65 @@
 //! Legacy VTK, ASCII: `UNSTRUCTURED_GRID` with quad cells or `POLYDATA` with 4-vertex
 //! polygons, and a point-data array `fixed` (see the module docs of [`crate::io`]).
 
-use super::lex::{Lexer, Tok, clip, parse_usize};
+use super::lex::{Lexer, Tok, clip, parse_usize, try_push, try_vec};
 use super::{IoError, MeshData, Num};
 use std::io::Write;
 
 /// VTK's cell type number of a quad.
 const VTK_QUAD: usize = 9;
 
-/// Cells as read: per cell its vertex indices (flat) and the line it starts on.
+/// Cells as read, kept as quads: of a cell with another number of points only the first is
+/// remembered (for the error), and of the point indices only the first out of range.
 #[derive(Default)]
 struct Cells {
-    offsets: Vec<usize>,
-    indices: Vec<usize>,
-    lines: Vec<usize>,
+    /// Number of cells.
+    count: usize,
+    /// The cells of 4 points.
+    quads: Vec<[u32; 4]>,
+    /// Line of the first cell.
+    first_line: Option<usize>,
+    /// The first cell not of 4 points: (cell, its point count, line).
+    other: Option<(usize, usize, usize)>,
+    /// The first point index out of range: (cell, index, line). With no points read yet,
+    /// the largest index, checked at the end.
+    bad_index: Option<(usize, usize, usize)>,
 }
 
 impl Cells {
-    fn len(&self) -> usize {
-        self.lines.len()
+    /// Files point index `v` of cell `cell`, checked against `points` when known.
+    fn index(&mut self, v: usize, cell: usize, line: usize, points: Option<usize>) -> u32 {
+        let bad = match (points, self.bad_index) {
+            (Some(n), None) => v >= n,
+            (None, None) => true,
+            (None, Some((_, worst, _))) => v > worst,
+            (Some(_), Some(_)) => false,
+        };
+        if bad {
+            self.bad_index = Some((cell, v, line));
+        }
+        u32::try_from(v).unwrap_or(u32::MAX)
     }
-    fn cell(&self, i: usize) -> &[usize] {
-        &self.indices[self.offsets[i]..self.offsets[i + 1]]
+
+    /// Files a cell of `k` points (`k == 4`: `q` holds them).
+    fn cell(&mut self, k: usize, q: [u32; 4], line: usize) -> Result<(), IoError> {
+        self.first_line.get_or_insert(line);
+        if k == 4 {
+            try_push(&mut self.quads, q, "quads")?;
+        } else if self.other.is_none() {
+            self.other = Some((self.count, k, line));
+        }
+        self.count += 1;
+        Ok(())
     }
+}
+
+/// Cell types as read: only their count and the first that is not a quad.
+struct Types {
+    count: usize,
+    /// Line of the first type.
+    first_line: Option<usize>,
+    /// The first type that is not a quad: (cell, type, line).
+    other: Option<(usize, usize, usize)>,
 }
 
 /// Where attribute arrays currently belong.
@@ -35,21 +72,20 @@ enum Section {
 
 /// Reads a legacy VTK text.
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
-    let mut lines = text.lines();
-    let header = lines.next().unwrap_or("");
+    let mut lex = Lexer::new(text, 1, None);
+    let header = lex.raw_line().unwrap_or("");
     if !header.trim_start().to_ascii_lowercase().starts_with("# vtk datafile") {
         return Err(IoError::Parse {
             line: 1,
             message: "not a legacy VTK file (no '# vtk DataFile' header)".into(),
         });
     }
-    if lines.next().is_none() {
+    if lex.raw_line().is_none() {
         return Err(IoError::Parse {
             line: 2,
             message: "unexpected end of file (expected the title line)".into(),
         });
     }
-    let mut lex = Lexer::new(lines, 3, None);
     let encoding = lex.next("ASCII or BINARY")?;
     if encoding.s.eq_ignore_ascii_case("BINARY") {
         return Err(IoError::Unsupported("binary VTK files (save the mesh as ASCII)".into()));
@@ -75,7 +111,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
 
     let mut points: Option<Vec<[f64; 3]>> = None;
     let mut cells: Option<Cells> = None;
-    let mut types: Option<Vec<(usize, usize)>> = None;
+    let mut types: Option<Types> = None;
     let mut fixed: Option<Vec<bool>> = None;
     let mut section = Section::None;
     while let Some(key) = lex.peek() {
@@ -88,31 +124,36 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
                 if n > u32::MAX as usize {
                     return Err(parse_err(key, format!("{n} points are too many")));
                 }
-                let mut p = Vec::with_capacity(n.min(lex.remaining() / 3));
+                let mut p = try_vec(n.min(lex.max_tokens() / 3), "points")?;
                 for _ in 0..n {
-                    p.push([lex.f64("a coordinate")?, lex.f64("a coordinate")?, lex.f64("a coordinate")?]);
+                    let xyz = [lex.f64("a coordinate")?, lex.f64("a coordinate")?, lex.f64("a coordinate")?];
+                    try_push(&mut p, xyz, "points")?;
                 }
                 points = Some(p);
             }
-            "CELLS" if !polydata => cells = Some(read_cells(&mut lex)?),
-            "POLYGONS" if polydata => cells = Some(read_cells(&mut lex)?),
+            "CELLS" if !polydata => cells = Some(read_cells(&mut lex, points.as_ref().map(Vec::len))?),
+            "POLYGONS" if polydata => cells = Some(read_cells(&mut lex, points.as_ref().map(Vec::len))?),
             "VERTICES" | "LINES" | "TRIANGLE_STRIPS" if polydata => {
-                let c = read_cells(&mut lex)?;
-                if c.len() > 0 {
+                let c = read_cells(&mut lex, None)?;
+                if let Some(line) = c.first_line {
                     let kind = match k.as_str() {
                         "VERTICES" => "vertex cell",
                         "LINES" => "line",
                         _ => "triangle strip",
                     };
-                    return Err(IoError::NonQuad { line: c.lines[0], cell: 0, kind: kind.into() });
+                    return Err(IoError::NonQuad { line, cell: 0, kind: kind.into() });
                 }
             }
             "CELL_TYPES" if !polydata => {
                 let n = lex.usize("the cell type count")?;
-                let mut t = Vec::with_capacity(n.min(lex.remaining()));
-                for _ in 0..n {
+                let mut t = Types { count: n, first_line: None, other: None };
+                for i in 0..n {
                     let tok = lex.next("a cell type")?;
-                    t.push((parse_usize(tok, "a cell type")?, tok.line));
+                    let ty = parse_usize(tok, "a cell type")?;
+                    t.first_line.get_or_insert(tok.line);
+                    if ty != VTK_QUAD && t.other.is_none() {
+                        t.other = Some((i, ty, tok.line));
+                    }
                 }
                 types = Some(t);
             }
@@ -196,50 +237,41 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let n = points.len();
     let what = if polydata { "POLYGONS" } else { "CELLS" };
     let cells = cells.ok_or_else(|| lex.error(format!("the file has no {what} section")))?;
-    let mut quads = Vec::with_capacity(cells.len());
     if !polydata {
         let types = types.ok_or_else(|| lex.error("the file has no CELL_TYPES section"))?;
-        if types.len() != cells.len() {
+        if types.count != cells.count {
             return Err(IoError::Parse {
-                line: types.first().map_or(lex.line(), |t| t.1),
-                message: format!("{} cell types were given for {} cells", types.len(), cells.len()),
+                line: types.first_line.unwrap_or_else(|| lex.line()),
+                message: format!("{} cell types were given for {} cells", types.count, cells.count),
             });
         }
-        for (i, &(ty, line)) in types.iter().enumerate() {
-            if ty != VTK_QUAD {
-                return Err(IoError::NonQuad {
-                    line,
-                    cell: i,
-                    kind: format!("{} (VTK type {ty})", type_name(ty)),
-                });
-            }
+        if let Some((i, ty, line)) = types.other {
+            return Err(IoError::NonQuad {
+                line,
+                cell: i,
+                kind: format!("{} (VTK type {ty})", type_name(ty)),
+            });
         }
     }
-    for i in 0..cells.len() {
-        let c = cells.cell(i);
-        let line = cells.lines[i];
-        if c.len() != 4 {
-            if polydata {
-                return Err(IoError::NonQuad {
-                    line,
-                    cell: i,
-                    kind: format!("polygon with {} vertices", c.len()),
-                });
-            }
-            return Err(IoError::Parse { line, message: format!("quad cell {i} has {} vertices", c.len()) });
+    // The first problem cell: one not of 4 points, or one referring to a missing point.
+    let bad_index = cells.bad_index.filter(|&(_, v, _)| v >= n);
+    let other_first = match (cells.other, bad_index) {
+        (Some((a, ..)), Some((b, ..))) => a <= b,
+        (other, _) => other.is_some(),
+    };
+    if let (true, Some((i, k, line))) = (other_first, cells.other) {
+        if polydata {
+            return Err(IoError::NonQuad { line, cell: i, kind: format!("polygon with {k} vertices") });
         }
-        let mut q = [0u32; 4];
-        for (j, &v) in c.iter().enumerate() {
-            if v >= n {
-                return Err(IoError::Parse {
-                    line,
-                    message: format!("cell {i} refers to point {v}, but there are only {n} points"),
-                });
-            }
-            q[j] = v as u32;
-        }
-        quads.push(q);
+        return Err(IoError::Parse { line, message: format!("quad cell {i} has {k} vertices") });
     }
+    if let Some((i, v, line)) = bad_index {
+        return Err(IoError::Parse {
+            line,
+            message: format!("cell {i} refers to point {v}, but there are only {n} points"),
+        });
+    }
+    let quads = cells.quads;
     if let Some(len) = fixed.as_ref().map(Vec::len).filter(|&len| len != n) {
         return Err(lex.error(format!("the fixed array has {len} values for {n} points")));
     }
@@ -296,70 +328,78 @@ fn read_flags(lex: &mut Lexer<'_>, count: usize, comps: usize) -> Result<Vec<boo
     if comps == 0 {
         return Err(lex.error("the fixed array has 0 components"));
     }
-    let mut flags = Vec::with_capacity(count.min(lex.remaining()));
+    let mut flags = try_vec(count.min(lex.max_tokens()), "fixed flags")?;
     for _ in 0..count {
         let mut any = false;
         for _ in 0..comps {
             let v = lex.f64("a fixed flag")?;
             any |= v != 0.0;
         }
-        flags.push(any);
+        try_push(&mut flags, any, "fixed flags")?;
     }
     Ok(flags)
 }
 
 /// Reads a cell list: classic `n size` followed by `count i0 i1 ...` per cell, or VTK 5.1's
-/// `n_offsets n_conn` followed by `OFFSETS type ...` and `CONNECTIVITY type ...`.
-fn read_cells(lex: &mut Lexer<'_>) -> Result<Cells, IoError> {
+/// `n_offsets n_conn` followed by `OFFSETS type ...` and `CONNECTIVITY type ...`. `points`
+/// is the number of points when they were read before.
+fn read_cells(lex: &mut Lexer<'_>, points: Option<usize>) -> Result<Cells, IoError> {
     let n = lex.usize("the cell count")?;
     let size = lex.usize("the cell list size")?;
     let mut cells = Cells::default();
     if lex.eat("OFFSETS") {
         data_type(lex)?;
-        let mut offsets = Vec::with_capacity(n.min(lex.remaining()));
-        let mut lines = Vec::with_capacity(n.min(lex.remaining()));
+        let cell_count = n.saturating_sub(1);
+        cells.quads = try_vec(cell_count.min(lex.max_tokens()), "quads")?;
+        let mut previous: Option<usize> = None;
         for i in 0..n {
             let t = lex.next("an offset")?;
             let o = parse_usize(t, "an offset")?;
-            if o > size || offsets.last().is_some_and(|&p| o < p) || (i == 0 && o != 0) {
+            if o > size || previous.is_some_and(|p| o < p) || (i == 0 && o != 0) {
                 return Err(parse_err(t, format!("offset {o} is out of order or beyond {size}")));
             }
-            offsets.push(o);
-            lines.push(t.line);
+            // Cell i - 1 starts at the previous offset; its line is that offset's.
+            if let Some(p) = previous {
+                cells.first_line.get_or_insert(t.line);
+                if o - p != 4 && cells.other.is_none() {
+                    cells.other = Some((i - 1, o - p, t.line));
+                }
+                cells.count += 1;
+            }
+            previous = Some(o);
         }
         if !lex.eat("CONNECTIVITY") {
             return Err(lex.error("expected CONNECTIVITY"));
         }
         data_type(lex)?;
-        let mut indices = Vec::with_capacity(size.min(lex.remaining()));
-        for _ in 0..size {
-            indices.push(lex.usize("a point index")?);
+        let mut q = [0u32; 4];
+        for k in 0..size {
+            let t = lex.next("a point index")?;
+            let v = parse_usize(t, "a point index")?;
+            // Grouped by 4: only read as quads when every cell has 4 points.
+            q[k % 4] = cells.index(v, k / 4, t.line, points);
+            if k % 4 == 3 && cells.other.is_none() {
+                try_push(&mut cells.quads, q, "quads")?;
+            }
         }
-        if offsets.last().is_some_and(|&o| o != size) {
+        if previous.is_some_and(|o| o != size) {
             return Err(lex.error(format!("the last offset is not the connectivity size {size}")));
         }
-        if offsets.is_empty() {
-            offsets.push(0);
-        }
-        lines.pop();
-        cells.offsets = offsets;
-        cells.indices = indices;
-        cells.lines = lines;
         return Ok(cells);
     }
-    let available = lex.remaining();
-    cells.offsets = Vec::with_capacity(n.min(available) + 1);
-    cells.offsets.push(0);
-    cells.indices = Vec::with_capacity(size.min(available));
-    cells.lines = Vec::with_capacity(n.min(available));
-    for _ in 0..n {
+    cells.quads = try_vec(n.min(lex.max_tokens() / 5), "quads")?;
+    for i in 0..n {
         let t = lex.next("a cell")?;
         let k = parse_usize(t, "the cell's point count")?;
-        for _ in 0..k {
-            cells.indices.push(lex.usize("a point index")?);
+        let mut q = [0u32; 4];
+        for j in 0..k {
+            let v = lex.usize("a point index")?;
+            let index = cells.index(v, i, t.line, points);
+            if let Some(c) = q.get_mut(j) {
+                *c = index;
+            }
         }
-        cells.offsets.push(cells.indices.len());
-        cells.lines.push(t.line);
+        cells.cell(k, q, t.line)?;
     }
     // The announced size is redundant with the per-cell counts, and some files get it wrong
     // (Mesquite's unstrquad.vtk says 80 for 150 values); Mesquite's reader ignores it too.

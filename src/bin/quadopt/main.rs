@@ -5,17 +5,28 @@
 //! - `quadopt optimize IN -o OUT`, `quadopt quality IN`, `quadopt compare IN...`,
 //!   `quadopt draw IN -o OUT.svg`: see `quadopt help`.
 //!
-//! Errors are one line on stderr; the exit code is 2 for usage errors, 1 for anything else.
-//! Output files are written atomically, so a failed run never leaves one half-written.
+//! Errors are one line on stderr, `quadopt: error: ...`; the exit code is 2 for usage errors,
+//! 1 for anything else. Output files are written as [`quadopt::io::output`] describes (a
+//! regular file is replaced atomically, a device or FIFO written in place); `-o -` writes to
+//! stdout, and the report then goes to stderr.
 
 mod svg;
 
-/// `print!` that ends the program quietly when stdout is closed (`quadopt compare ... | head`)
-/// instead of panicking with "failed printing to stdout".
+/// Whether the report goes to stderr because stdout carries the output mesh (`-o -`).
+static REPORT_ON_STDERR: AtomicBool = AtomicBool::new(false);
+
+/// `print!` of the report: to stdout (or stderr with `-o -`), ending the program quietly when
+/// stdout is closed (`quadopt compare ... | head`) instead of panicking with "failed printing
+/// to stdout".
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        if write!(std::io::stdout(), $($arg)*).is_err() {
+        let written = if REPORT_ON_STDERR.load(Ordering::Relaxed) {
+            write!(std::io::stderr(), $($arg)*)
+        } else {
+            write!(std::io::stdout(), $($arg)*)
+        };
+        if written.is_err() {
             std::process::exit(0);
         }
     }};
@@ -23,23 +34,25 @@ macro_rules! out {
 
 /// `println!` with the behaviour of [`out!`].
 macro_rules! outln {
+    () => { out!("\n") };
     ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        if writeln!(std::io::stdout(), $($arg)*).is_err() {
-            std::process::exit(0);
-        }
+        out!($($arg)*);
+        out!("\n");
     }};
 }
 
+use clap::error::ErrorKind;
 use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
 use quadopt::synthetic::Synthetic;
-use quadopt::{BoundaryMode, Method, Optimizer, Options, Progress, QuadMesh, QualityStats, Report};
+use quadopt::{BoundaryMode, Method, Optimizer, Options, Progress, QuadMesh, QualityStats, Report, StopRule};
 use serde_json::{Value, json};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 #[derive(Parser)]
 #[command(
@@ -50,6 +63,24 @@ use std::time::Instant;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Number of threads (default: one per core); results are identical on any number.
+    #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
+    threads: Option<usize>,
+}
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("'{s}' is not a number of threads (a whole number >= 1)")),
+    }
+}
+
+/// A mesh format named on the command line (`--format`).
+fn parse_format(s: &str) -> Result<Format, String> {
+    Format::ALL
+        .into_iter()
+        .find(|f| f.extension().eq_ignore_ascii_case(s))
+        .ok_or_else(|| format!("unknown mesh format '{s}' (expected obj, off, vtk or msh)"))
 }
 
 #[derive(Subcommand)]
@@ -58,9 +89,12 @@ enum Command {
     Optimize {
         /// Input mesh (.obj, .off, .vtk, .msh).
         input: PathBuf,
-        /// Output mesh (format from its extension).
+        /// Output mesh (format from its extension); `-` writes to stdout, in the input's format.
         #[arg(short, long)]
         output: PathBuf,
+        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        #[arg(long, value_parser = parse_format)]
+        format: Option<Format>,
         #[command(flatten)]
         opts: OptArgs,
         /// Print one JSON object instead of text.
@@ -90,7 +124,7 @@ enum Command {
     Draw {
         /// Input mesh.
         input: PathBuf,
-        /// Output SVG file.
+        /// Output SVG file (.svg); `-` writes to stdout.
         #[arg(short, long)]
         output: PathBuf,
         /// Optimize first (with the options below) and draw the result.
@@ -101,9 +135,12 @@ enum Command {
     },
     /// Write a synthetic benchmark mesh: a grid with circular holes and jittered interior vertices.
     Generate {
-        /// Output mesh (format from its extension).
+        /// Output mesh (format from its extension); `-` writes to stdout (needs --format).
         #[arg(short, long)]
         output: PathBuf,
+        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        #[arg(long, value_parser = parse_format)]
+        format: Option<Format>,
         /// Approximate number of quads of a square grid (overrides --nx and --ny).
         #[arg(long)]
         quads: Option<usize>,
@@ -164,6 +201,13 @@ struct TuneArgs {
     /// Do not untangle inverted quads before smoothing.
     #[arg(long)]
     no_untangle: bool,
+    /// Skip the max-min stage (which raises the worst quad after the sweeps).
+    #[arg(long)]
+    no_maxmin: bool,
+    /// Stopping rule: energy (the energy change per movable vertex below --tau) or quality
+    /// (stop once inverted count, minimum and average stop improving; fewer sweeps).
+    #[arg(long)]
+    stop: Option<StopRule>,
     /// Largest distance of a new boundary edge from the original boundary, relative to the
     /// edge's length (default: unlimited).
     #[arg(long, allow_negative_numbers = true)]
@@ -194,6 +238,8 @@ impl TuneArgs {
             guard_floor: self.guard_floor,
             untangle: base.untangle && !self.no_untangle,
             max_boundary_deviation: self.max_boundary_deviation,
+            max_min: base.max_min && !self.no_maxmin,
+            stop: self.stop.unwrap_or(base.stop),
             ..base
         };
         o.validate().map_err(|e| Fail::Usage(e.to_string()))?;
@@ -220,20 +266,18 @@ impl<E: std::fmt::Display> From<E> for Fail {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        None => run_data_dir(),
-        Some(Command::Optimize { input, output, opts, json }) => cmd_optimize(&input, &output, &opts, json),
-        Some(Command::Quality { input, json }) => cmd_quality(&input, json),
-        Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
-        Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
-        Some(Command::Generate { output, quads, nx, ny, holes, hole_size, jitter, seed }) => {
-            let spec = match quads {
-                Some(n) => Synthetic { holes, hole_size, jitter, seed, ..Synthetic::with_quads(n) },
-                None => Synthetic { nx, ny, holes, hole_size, jitter, seed },
-            };
-            cmd_generate(&output, &spec)
-        }
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
+    #[cfg(unix)]
+    remove_temporary_files_on_signal();
+    let result = match cli.threads {
+        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(|| dispatch(cli.command)),
+            Err(e) => Err(Fail::Other(format!("cannot start {n} threads: {e}"))),
+        },
+        None => dispatch(cli.command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -248,6 +292,94 @@ fn main() -> ExitCode {
     }
 }
 
+fn dispatch(command: Option<Command>) -> Result<(), Fail> {
+    match command {
+        None => run_data_dir(),
+        Some(Command::Optimize { input, output, format, opts, json }) => {
+            cmd_optimize(&input, &output, format, &opts, json)
+        }
+        Some(Command::Quality { input, json }) => cmd_quality(&input, json),
+        Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
+        Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
+        Some(Command::Generate { output, format, quads, nx, ny, holes, hole_size, jitter, seed }) => {
+            let spec = match quads {
+                Some(n) => Synthetic { holes, hole_size, jitter, seed, ..Synthetic::with_quads(n) },
+                None => Synthetic { nx, ny, holes, hole_size, jitter, seed },
+            };
+            cmd_generate(&output, format, &spec)
+        }
+    }
+}
+
+/// Prints help and version as clap does; any other parse error as one line
+/// `quadopt: error: ...` (clap's message, its indented lines and tip joined), exit code 2.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    let rendered = e.render().to_string();
+    let mut msg = String::new();
+    for line in rendered.lines().map(str::trim) {
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        if !msg.is_empty() {
+            msg.push_str(if line.starts_with("tip:") { "; " } else { " " });
+        }
+        msg.push_str(line.strip_prefix("error:").map_or(line, str::trim_start));
+    }
+    if msg.is_empty() {
+        msg = e.kind().to_string();
+    }
+    eprintln!("quadopt: error: {msg} (see 'quadopt --help')");
+    ExitCode::from(2)
+}
+
+/// On SIGINT or SIGTERM, removes the temporary output file being written, then ends the
+/// process as the signal would have.
+#[cfg(unix)]
+fn remove_temporary_files_on_signal() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            io::remove_pending_temporary_files();
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+/// Whether `-o` names stdout.
+fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// The format to write: `--format`, else the output's extension, else (for stdout) `fallback`.
+fn output_format(output: &Path, format: Option<Format>, fallback: Option<Format>) -> Result<Format, Fail> {
+    match (format, is_stdout(output), fallback) {
+        (Some(f), _, _) => Ok(f),
+        (None, true, Some(f)) => Ok(f),
+        (None, true, None) => Err(Fail::Usage("writing to stdout (-o -) needs --format".into())),
+        (None, false, _) => Ok(Format::from_path(output)?),
+    }
+}
+
+/// Writes a mesh to `output` (or stdout for `-`), every write checked.
+fn write_mesh_output(output: &Path, format: Format, data: &MeshData) -> Result<(), Fail> {
+    if !is_stdout(output) {
+        return Ok(io::write_mesh_as(output, format, data)?);
+    }
+    io::write_mesh_to(&mut std::io::stdout().lock(), format, data).map_err(|e| match e {
+        io::IoError::Stream(e) => Fail::Other(format!("cannot write to stdout: {e}")),
+        e => Fail::Other(e.to_string()),
+    })
+}
+
 /// A mesh read from a file and mapped to 2D.
 struct Loaded {
     data: MeshData,
@@ -260,29 +392,44 @@ fn load(path: &Path) -> Result<Loaded, Fail> {
     Ok(Loaded { data, planar })
 }
 
-/// Runs the optimizer, showing progress on stderr when it is a terminal.
-fn run(optimizer: &Optimizer, mesh: &mut QuadMesh, options: &Options) -> Result<Report, Fail> {
-    if !std::io::stderr().is_terminal() {
+/// How long a run goes before the progress bar appears.
+const PROGRESS_DELAY: Duration = Duration::from_millis(500);
+
+/// Runs the optimizer. With `progress`, a run lasting more than [`PROGRESS_DELAY`] draws a
+/// progress bar on stderr if stderr is a terminal (cleared at the end).
+fn run(
+    optimizer: &Optimizer,
+    mesh: &mut QuadMesh,
+    options: &Options,
+    progress: bool,
+) -> Result<Report, Fail> {
+    if !progress || !std::io::stderr().is_terminal() {
         return Ok(optimizer.run(mesh, options, None)?);
     }
     let start = Instant::now();
-    let mut last = 0.0;
-    let mut shown = false;
+    let mut bar: Option<ProgressBar> = None;
     let mut cb = |p: &Progress| {
-        let t = start.elapsed().as_secs_f64();
-        if t - last > 0.2 {
-            last = t;
-            shown = true;
-            eprint!(
-                "\r  iteration {}/{}  energy {:.6e}  change {:.3e}   ",
-                p.iteration, p.max_iterations, p.energy, p.energy_change
-            );
+        if bar.is_none() && start.elapsed() >= PROGRESS_DELAY {
+            let b =
+                ProgressBar::with_draw_target(Some(p.max_iterations as u64), ProgressDrawTarget::stderr());
+            if let Ok(style) =
+                ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} sweeps, {msg} ({elapsed})")
+            {
+                b.set_style(style.progress_chars("=> "));
+            }
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_prefix(format!("pass {}/{}", p.pass, p.passes));
+            b.set_length(p.max_iterations as u64);
+            b.set_position(p.iteration as u64);
+            b.set_message(format!("energy {:.6e}", p.energy));
         }
         true
     };
     let report = optimizer.run(mesh, options, Some(&mut cb));
-    if shown {
-        eprint!("\r{:60}\r", "");
+    if let Some(b) = bar {
+        b.finish_and_clear();
     }
     Ok(report?)
 }
@@ -303,6 +450,10 @@ fn report_json(r: &Report) -> Value {
             "max_deviation_relative": f.max_deviation_relative, "hausdorff_relative": f.hausdorff_relative,
         },
         "tangled": r.tangled.iter().map(|t| json!({ "quad": t.quad, "reason": t.reason.describe() })).collect::<Vec<_>>(),
+        "max_min": r.max_min.map(|g| json!({
+            "before": stats_json(&g.before), "after": stats_json(&g.after),
+            "rounds": g.rounds, "seconds": g.seconds,
+        })),
     })
 }
 
@@ -316,14 +467,21 @@ fn print_tangled(r: &Report) {
     }
 }
 
-fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> Result<(), Fail> {
+fn cmd_optimize(
+    input: &Path,
+    output: &Path,
+    format: Option<Format>,
+    opts: &OptArgs,
+    as_json: bool,
+) -> Result<(), Fail> {
     let options = opts.options()?;
-    Format::from_path(output)?;
+    let format = output_format(output, format, Format::from_path(input).ok())?;
     let Loaded { mut data, mut planar } = load(input)?;
     let optimizer = Optimizer::new(&planar.mesh);
-    let report = run(&optimizer, &mut planar.mesh, &options)?;
+    let report = run(&optimizer, &mut planar.mesh, &options, !as_json)?;
     planar.write_back(&mut data);
-    io::write_mesh(output, &data)?;
+    write_mesh_output(output, format, &data)?;
+    REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
     if as_json {
         let mut v = json!({
             "input": stats_json(&report.input),
@@ -351,7 +509,8 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
     outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
     outln!("method {}, boundary {}", options.method.name(), options.boundary.name());
     outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
-    for (name, s) in [("input", &report.input), ("output", &report.output)] {
+    let sweeps = report.max_min.map(|g| ("sweeps", g.before));
+    for (name, s) in [("input", report.input)].into_iter().chain(sweeps).chain([("output", report.output)]) {
         outln!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
     }
     outln!(
@@ -375,7 +534,11 @@ fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> R
         f.hausdorff_relative
     );
     print_tangled(&report);
-    outln!("wrote {}", output.display());
+    if is_stdout(output) {
+        outln!("wrote the mesh to stdout");
+    } else {
+        outln!("wrote {}", output.display());
+    }
     Ok(())
 }
 
@@ -439,7 +602,7 @@ fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
         let mut results = Vec::new();
         for options in &configs {
             let mut mesh = planar.mesh.clone();
-            results.push(run(&optimizer, &mut mesh, options)?);
+            results.push(run(&optimizer, &mut mesh, options, !as_json)?);
         }
         rows.push((input, data.points.len(), data.quads.len(), planar.mesh.quality(), results));
     }
@@ -483,10 +646,17 @@ fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
 
 fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Result<(), Fail> {
     let options = opts.options()?;
+    let is_svg = output.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if !is_svg && !is_stdout(output) {
+        return Err(Fail::Other(format!(
+            "{}: not an SVG file name (expected the extension .svg, or - for stdout)",
+            output.display()
+        )));
+    }
     let Loaded { mut planar, .. } = load(input)?;
     let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let title = if optimized {
-        let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options)?;
+        let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
         format!(
             "{name} optimized ({}, {}): min {:.3}, avg {:.3}, {} inverted",
             options.method.name(),
@@ -499,12 +669,21 @@ fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Res
         let q = planar.mesh.quality();
         format!("{name}: min {:.3}, avg {:.3}, {} inverted", q.min, q.avg, q.inverted)
     };
-    write_atomic(output, svg::render(&planar.mesh, &title).as_bytes())?;
+    let text = svg::render(&planar.mesh, &title);
+    if is_stdout(output) {
+        use std::io::Write as _;
+        let mut out = std::io::stdout().lock();
+        out.write_all(text.as_bytes())
+            .and_then(|()| out.flush())
+            .map_err(|e| Fail::Other(format!("cannot write to stdout: {e}")))?;
+    } else {
+        io::write_file(output, text.as_bytes())?;
+    }
     Ok(())
 }
 
-fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
-    Format::from_path(output)?;
+fn cmd_generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Result<(), Fail> {
+    let format = output_format(output, format, None)?;
     if !(0.0..1.0).contains(&spec.hole_size) {
         return Err(Fail::Usage(format!("--hole-size {} is not in [0, 1)", spec.hole_size)));
     }
@@ -516,7 +695,8 @@ fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
     }
     let mesh = spec.generate();
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
-    io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
+    write_mesh_output(output, format, &MeshData::new(points, mesh.quads_as_given()))?;
+    REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
     let q = mesh.quality();
     outln!(
         "wrote {}: {} vertices, {} quads; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",
@@ -527,19 +707,6 @@ fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
         q.avg,
         q.inverted
     );
-    Ok(())
-}
-
-/// Writes a file through a temporary file in the same directory and a rename.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Fail> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Fail::Other(format!("cannot write {}: {e}", path.display())));
-    }
     Ok(())
 }
 
@@ -593,7 +760,7 @@ fn run_data_dir() -> Result<(), Fail> {
     for path in &files {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let result = load(path).and_then(|Loaded { data, mut planar }| {
-            let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options)?;
+            let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
             Ok((data, report))
         });
         match result {

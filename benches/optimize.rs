@@ -76,8 +76,7 @@ fn report_working_set(mesh: &quadopt::QuadMesh) {
 }
 
 fn mesh_bytes(mesh: &quadopt::QuadMesh) -> usize {
-    let n = mesh.points().len();
-    n * (size_of::<quadopt::DVec2>() + size_of::<bool>()) + mesh.quads().len() * size_of::<[u32; 4]>()
+    size_of_val(mesh.points()) + size_of_val(mesh.fixed()) + size_of_val(mesh.quads())
 }
 
 fn sizes() -> Vec<usize> {

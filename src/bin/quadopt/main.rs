@@ -8,6 +8,7 @@
 //! Errors are one line on stderr; the exit code is 2 for usage errors, 1 for anything else.
 //! Output files are written atomically, so a failed run never leaves one half-written.
 
+mod openmesh_io;
 mod svg;
 
 /// `print!` that ends the program quietly when stdout is closed (`quadopt compare ... | head`)
@@ -32,7 +33,7 @@ macro_rules! outln {
 }
 
 use clap::{Args, Parser, Subcommand};
-use quadopt::io::{self, Format, MeshData, PlanarMesh};
+use quadopt::io::{Format, MeshData, PlanarMesh};
 use quadopt::synthetic::Synthetic;
 use quadopt::{BoundaryMode, Method, Optimizer, Options, Progress, QuadMesh, QualityStats, Report};
 use serde_json::{Value, json};
@@ -44,12 +45,15 @@ use std::time::Instant;
 #[derive(Parser)]
 #[command(
     name = "quadopt",
-    version,
+    version = openmesh_io::VERSION,
     about = "Quality optimizer for 2D quad meshes (embedded polygon method)"
 )]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Reader for .obj and .off: auto (quadopt's) or openmesh (.ply and .om always use OpenMesh).
+    #[arg(long, global = true, value_enum, default_value_t)]
+    reader: openmesh_io::Reader,
 }
 
 #[derive(Subcommand)]
@@ -221,6 +225,10 @@ impl<E: std::fmt::Display> From<E> for Fail {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(m) = openmesh_io::set_reader(cli.reader) {
+        eprintln!("quadopt: error: {m}");
+        return ExitCode::from(2);
+    }
     let result = match cli.command {
         None => run_data_dir(),
         Some(Command::Optimize { input, output, opts, json }) => cmd_optimize(&input, &output, &opts, json),
@@ -255,7 +263,7 @@ struct Loaded {
 }
 
 fn load(path: &Path) -> Result<Loaded, Fail> {
-    let data = io::read_mesh(path)?;
+    let data = openmesh_io::read_mesh(path)?;
     let planar = PlanarMesh::new(&data).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     Ok(Loaded { data, planar })
 }
@@ -318,12 +326,12 @@ fn print_tangled(r: &Report) {
 
 fn cmd_optimize(input: &Path, output: &Path, opts: &OptArgs, as_json: bool) -> Result<(), Fail> {
     let options = opts.options()?;
-    Format::from_path(output)?;
+    openmesh_io::check_output(output)?;
     let Loaded { mut data, mut planar } = load(input)?;
     let optimizer = Optimizer::new(&planar.mesh);
     let report = run(&optimizer, &mut planar.mesh, &options)?;
     planar.write_back(&mut data);
-    io::write_mesh(output, &data)?;
+    openmesh_io::write_mesh(output, &data)?;
     if as_json {
         let mut v = json!({
             "input": stats_json(&report.input),
@@ -504,7 +512,7 @@ fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Res
 }
 
 fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
-    Format::from_path(output)?;
+    openmesh_io::check_output(output)?;
     if !(0.0..1.0).contains(&spec.hole_size) {
         return Err(Fail::Usage(format!("--hole-size {} is not in [0, 1)", spec.hole_size)));
     }
@@ -516,7 +524,7 @@ fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
     }
     let mesh = spec.generate();
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
-    io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
+    openmesh_io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
     let q = mesh.quality();
     outln!(
         "wrote {}: {} vertices, {} quads; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",

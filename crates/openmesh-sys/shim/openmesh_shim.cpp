@@ -400,13 +400,32 @@ bool fixed_from(OpenMesh::BaseProperty *bp, std::vector<uint8_t> &out) {
   return true;
 }
 
-bool read_fixed_property(Mesh &m, std::vector<uint8_t> &out) {
+/// OpenMesh's ASCII PLY reader reads a char-typed property as one character ('0', '1'), not
+/// as a number.
+template <class T>
+bool fixed_from_chars(OpenMesh::BaseProperty *bp, std::vector<uint8_t> &out) {
+  auto *p = dynamic_cast<OpenMesh::PropertyT<T> *>(bp);
+  if (p == nullptr) return false;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const int c = static_cast<int>((*p)[i]);
+    if (c < '0' || c > '9') {
+      fail(OMSYS_READ_FAILED, "vertex " + std::to_string(i) + ": the 'fixed' value is not a digit 0-9");
+    }
+    if (c != '0') out[i] = 1;
+  }
+  return true;
+}
+
+bool read_fixed_property(Mesh &m, std::vector<uint8_t> &out, bool ascii_ply) {
   for (auto it = m.vprops_begin(); it != m.vprops_end(); ++it) {
     OpenMesh::BaseProperty *bp = *it;
     if (bp == nullptr || bp->name() != "fixed") continue;
     if (bp->n_elements() != m.n_vertices()) {
       fail(OMSYS_READ_FAILED, "the vertex property 'fixed' has " + std::to_string(bp->n_elements()) +
                                   " values for " + std::to_string(m.n_vertices()) + " vertices");
+    }
+    if (ascii_ply && (fixed_from_chars<unsigned char>(bp, out) || fixed_from_chars<signed char>(bp, out))) {
+      return true;
     }
     const bool ok = fixed_from<bool>(bp, out) || fixed_from<unsigned char>(bp, out) ||
                     fixed_from<signed char>(bp, out) || fixed_from<char>(bp, out) || fixed_from<short>(bp, out) ||
@@ -424,7 +443,7 @@ bool read_fixed_property(Mesh &m, std::vector<uint8_t> &out) {
 
 /// Copies a freshly read mesh into the flat arrays, walking every face's halfedge cycle with
 /// bounds checks (the order of OpenMesh's face-vertex circulator).
-void extract(OmsysMesh &h) {
+void extract(OmsysMesh &h, bool ascii_ply) {
   Mesh &m = h.mesh;
   const std::size_t nv = m.n_vertices(), nh = m.n_halfedges(), nf = m.n_faces();
   if (nv > std::numeric_limits<uint32_t>::max()) fail(OMSYS_READ_FAILED, "too many vertices for 32-bit indices");
@@ -466,7 +485,7 @@ void extract(OmsysMesh &h) {
   }
 
   h.fixed.assign(nv, 0);
-  const bool has_property = read_fixed_property(m, h.fixed);
+  const bool has_property = read_fixed_property(m, h.fixed, ascii_ply);
   bool any_locked = false;
   if (h.info.has_vertex_status && m.has_vertex_status()) {
     for (std::size_t i = 0; i < nv; ++i) {
@@ -601,7 +620,7 @@ void read_impl(OmsysMesh &h, const uint8_t *data, std::size_t len, const char *f
   h.dropped = std::move(imp.dropped);
   h.has_info = true;
   check_complete(h);
-  extract(h);
+  extract(h, fmt == Format::Ply && !h.info.binary);
 }
 
 void set_impl(OmsysMesh &h, const double *points, std::size_t nv, const uint32_t *offsets, std::size_t nf,
@@ -665,6 +684,14 @@ void set_impl(OmsysMesh &h, const double *points, std::size_t nv, const uint32_t
   h.dropped.clear();
 }
 
+template <class T>
+void add_fixed_property(Mesh &m, const std::vector<uint8_t> &fixed) {
+  OpenMesh::VPropHandleT<T> prop;
+  m.add_property(prop, "fixed");
+  m.property(prop).set_persistent(true);
+  for (std::size_t i = 0; i < m.n_vertices(); ++i) m.property(prop, Mesh::VertexHandle(static_cast<int>(i))) = fixed[i];
+}
+
 void write_impl(OmsysMesh &h, const char *format, const OmsysWriteOptions *options) {
   const Format fmt = parse_format(format);
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::Default;
@@ -678,11 +705,12 @@ void write_impl(OmsysMesh &h, const char *format, const OmsysWriteOptions *optio
     if (fmt == Format::Obj || fmt == Format::Off) {
       fail(OMSYS_INVALID_ARGUMENT, std::string(extension(fmt) + 1) + " cannot carry the fixed flags (use ply or om)");
     }
-    OpenMesh::VPropHandleT<unsigned char> prop;
-    if (m.get_property_handle(prop, "fixed")) m.remove_property(prop);
-    m.add_property(prop, "fixed");
-    m.property(prop).set_persistent(true);
-    for (std::size_t i = 0; i < m.n_vertices(); ++i) m.property(prop, Mesh::VertexHandle(static_cast<int>(i))) = h.fixed[i];
+    // uchar in OM; int in PLY, whose ASCII writer puts a uchar out as a raw byte.
+    if (fmt == Format::Om) {
+      add_fixed_property<unsigned char>(m, h.fixed);
+    } else {
+      add_fixed_property<int>(m, h.fixed);
+    }
     opt += OpenMesh::IO::Options::Custom;
     if (fmt == Format::Om) {
       // OpenMesh tools (and quadopt's C++ adapter) read locked vertices as fixed.

@@ -116,7 +116,7 @@ typedef struct OmsysWriteOptions {
 
 /* Writes the mesh with OpenMesh into the mesh's output buffer (omsys_output). ASCII numbers
  * are written with 17 significant digits. The fixed flags, when the mesh has them, go into a
- * vertex property "fixed" (uchar; PLY and OM) and, in OM, also into the vertices' locked
+ * vertex property "fixed" (int in PLY, uchar in OM) and, in OM, also into the vertices' locked
  * status; OBJ and OFF cannot carry them (OMSYS_INVALID_ARGUMENT). */
 OmsysStatus omsys_write(OmsysMesh *mesh, const char *format, const OmsysWriteOptions *options);
 /* The bytes of the last successful omsys_write; valid until the next call on `mesh`. */

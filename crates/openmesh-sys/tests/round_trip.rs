@@ -80,7 +80,7 @@ fn ply_ascii_and_binary_keep_f32_coordinates_and_the_fixed_flags() {
         let header = String::from_utf8_lossy(&bytes[..200]);
         let expected = if binary { "format binary_little_endian" } else { "format ascii" };
         assert!(header.contains(expected), "{header}");
-        assert!(header.contains("property uchar fixed"), "{header}");
+        assert!(header.contains("property int fixed"), "{header}");
         let (back, info) = read_bytes(&bytes, Format::Ply).unwrap();
         assert_eq!(bits(&back), bits(&m), "binary: {binary}");
         assert_eq!(back.face_offsets, m.face_offsets);
@@ -170,4 +170,14 @@ fn files_round_trip_through_the_path_api() {
     assert!(matches!(openmesh_sys::read(dir.join("missing.ply")), Err(Error::File { .. })));
     assert!(matches!(openmesh_sys::read(dir.join("mesh.stl")), Err(Error::UnknownFormat { .. })));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn ascii_ply_uchar_flags_written_as_digits_are_read_as_numbers() {
+    // Other tools write `property uchar fixed` as the digits 0 and 1 (OpenMesh reads a char).
+    let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                property uchar fixed\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                0 0 0 0\n1 0 0 1\n0 1 0 0\n3 0 1 2\n";
+    let (m, _) = read_bytes(text.as_bytes(), Format::Ply).unwrap();
+    assert_eq!(m.fixed, Some(vec![false, true, false]));
 }

@@ -50,7 +50,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     planar.write_back(&mut data);
     println!(
         "scaled Jacobian min {:.4} -> {:.4}, avg {:.4} -> {:.4}, inverted {} -> {}",
-        report.input.min, report.output.min, report.input.avg, report.output.avg, report.input.inverted,
+        report.input.min,
+        report.output.min,
+        report.input.avg,
+        report.output.avg,
+        report.input.inverted,
         report.output.inverted
     );
 

@@ -39,7 +39,8 @@ fn from_pkg_config() -> Result<OpenMesh, String> {
         return Err(format!("{pkg_config} does not know the package `openmesh`"));
     }
     let flags = String::from_utf8_lossy(&out.stdout);
-    let mut om = OpenMesh { include_dirs: Vec::new(), lib_dirs: Vec::new(), origin: "pkg-config openmesh".into() };
+    let mut om =
+        OpenMesh { include_dirs: Vec::new(), lib_dirs: Vec::new(), origin: "pkg-config openmesh".into() };
     for flag in flags.split_whitespace() {
         if let Some(dir) = flag.strip_prefix("-I") {
             om.include_dirs.push(dir.into());
@@ -101,7 +102,9 @@ fn main() {
             panic!("openmesh-sys: bindgen cannot parse shim/openmesh_shim.h ({e}); is libclang installed? (Debian: apt-get install libclang-dev)")
         });
     let out = PathBuf::from(env::var("OUT_DIR").unwrap()).join("bindings.rs");
-    bindings.write_to_file(&out).unwrap_or_else(|e| panic!("openmesh-sys: cannot write {}: {e}", out.display()));
+    bindings
+        .write_to_file(&out)
+        .unwrap_or_else(|e| panic!("openmesh-sys: cannot write {}: {e}", out.display()));
 }
 
 /// Stops the build with what is missing and how to get it.

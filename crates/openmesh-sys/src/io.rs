@@ -527,8 +527,8 @@ pub fn write_bytes(mesh: &MeshArrays, format: Format, options: &WriteOptions) ->
 pub fn write(path: impl AsRef<Path>, mesh: &MeshArrays, options: &WriteOptions) -> Result<(), Error> {
     let path = path.as_ref();
     let format = Format::from_path(path).ok_or_else(|| Error::UnknownFormat { path: path.into() })?;
-    let bytes =
-        write_bytes(mesh, format, options).map_err(|e| Error::InFile { path: path.into(), source: Box::new(e) })?;
+    let bytes = write_bytes(mesh, format, options)
+        .map_err(|e| Error::InFile { path: path.into(), source: Box::new(e) })?;
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));

@@ -2,7 +2,9 @@
 //! of a PLY ASCII, a binary PLY and an OM file), wrong counts, out-of-range and repeated
 //! indices, faces OpenMesh cannot add (non-manifold, duplicated), corrupt OM bytes.
 
-use openmesh_sys::{DropReason, DroppedFace, Error, Format, MeshArrays, WriteOptions, read_bytes, write_bytes};
+use openmesh_sys::{
+    DropReason, DroppedFace, Error, Format, MeshArrays, WriteOptions, read_bytes, write_bytes,
+};
 
 /// A 2 x 2 grid of unit quads (9 vertices, 4 faces), f32-exact, two vertices fixed.
 fn grid() -> MeshArrays {
@@ -95,7 +97,9 @@ fn every_prefix_fails_or_is_whole(bytes: &[u8], format: Format, whole: &MeshArra
     for len in 0..bytes.len() {
         match read_bytes(&bytes[..len], format) {
             Err(_) => {}
-            Ok((m, _)) => assert_eq!(&m, whole, "{format}: the first {len} of {} bytes gave another mesh", bytes.len()),
+            Ok((m, _)) => {
+                assert_eq!(&m, whole, "{format}: the first {len} of {} bytes gave another mesh", bytes.len())
+            }
         }
     }
     assert_eq!(&read_bytes(bytes, format).unwrap().0, whole);

@@ -44,7 +44,11 @@ fn bits(m: &MeshArrays) -> Vec<[u64; 3]> {
     m.points.iter().map(|p| p.map(f64::to_bits)).collect()
 }
 
-fn round_trip(m: &MeshArrays, format: Format, options: &WriteOptions) -> (MeshArrays, openmesh_sys::ReadInfo) {
+fn round_trip(
+    m: &MeshArrays,
+    format: Format,
+    options: &WriteOptions,
+) -> (MeshArrays, openmesh_sys::ReadInfo) {
     let bytes = write_bytes(m, format, options).unwrap();
     read_bytes(&bytes, format).unwrap()
 }
@@ -140,22 +144,37 @@ fn invalid_arrays_are_errors() {
     let m = awkward();
     let mut bad = m.clone();
     bad.face_indices[3] = 99;
-    assert!(matches!(write_bytes(&bad, Format::Om, &WriteOptions::default()), Err(Error::InvalidMesh { .. })));
+    assert!(matches!(
+        write_bytes(&bad, Format::Om, &WriteOptions::default()),
+        Err(Error::InvalidMesh { .. })
+    ));
     let mut bad = m.clone();
     bad.face_offsets.pop();
-    assert!(matches!(write_bytes(&bad, Format::Om, &WriteOptions::default()), Err(Error::InvalidMesh { .. })));
+    assert!(matches!(
+        write_bytes(&bad, Format::Om, &WriteOptions::default()),
+        Err(Error::InvalidMesh { .. })
+    ));
     let mut bad = m.clone();
     bad.fixed = Some(vec![true]);
-    assert!(matches!(write_bytes(&bad, Format::Om, &WriteOptions::default()), Err(Error::InvalidMesh { .. })));
+    assert!(matches!(
+        write_bytes(&bad, Format::Om, &WriteOptions::default()),
+        Err(Error::InvalidMesh { .. })
+    ));
     // The same quad twice: OpenMesh cannot add the second.
-    let dup = MeshArrays::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]], [[0, 1, 2, 3], [0, 1, 2, 3]]);
+    let dup = MeshArrays::new(
+        vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+        [[0, 1, 2, 3], [0, 1, 2, 3]],
+    );
     match write_bytes(&dup, Format::Om, &WriteOptions::default()) {
         Err(Error::InvalidMesh { message }) => assert!(message.contains("face 1"), "{message}"),
         other => panic!("expected an invalid mesh, got {other:?}"),
     }
     let mut nan = m;
     nan.points[2][1] = f64::NAN;
-    assert!(matches!(write_bytes(&nan, Format::Om, &WriteOptions::default()), Err(Error::InvalidMesh { .. })));
+    assert!(matches!(
+        write_bytes(&nan, Format::Om, &WriteOptions::default()),
+        Err(Error::InvalidMesh { .. })
+    ));
 }
 
 #[test]

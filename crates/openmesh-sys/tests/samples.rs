@@ -48,7 +48,8 @@ fn f32_coordinates(text: &str, format: Format, n: usize) -> Vec<[f64; 3]> {
     lines
         .iter()
         .map(|l| {
-            let v: Vec<f64> = l.split_whitespace().take(3).map(|t| f64::from(t.parse::<f32>().unwrap())).collect();
+            let v: Vec<f64> =
+                l.split_whitespace().take(3).map(|t| f64::from(t.parse::<f32>().unwrap())).collect();
             [v[0], v[1], v[2]]
         })
         .collect()
@@ -66,7 +67,11 @@ fn vtk_samples_through_obj_and_off_match_quadopts_readers() {
             assert_eq!(theirs.points.len(), ours.points.len(), "{name}");
             assert_eq!(theirs.face_count(), ours.quads.len(), "{name}");
             assert!(theirs.faces().zip(&ours.quads).all(|(a, b)| a == b), "{name}: faces differ");
-            assert_eq!(bits(&theirs.points), bits(&f32_coordinates(&text, format, ours.points.len())), "{name}");
+            assert_eq!(
+                bits(&theirs.points),
+                bits(&f32_coordinates(&text, format, ours.points.len())),
+                "{name}"
+            );
             assert_eq!(info.declared_faces, Some(ours.quads.len() as u64), "{name}");
         }
     }
@@ -79,7 +84,8 @@ fn vtk_samples_round_trip_through_om_bit_for_bit() {
         let data = io::read_mesh(&path).unwrap();
         with_fixed += usize::from(data.fixed.is_some());
         let a = arrays(&data);
-        let (back, _) = read_bytes(&write_bytes(&a, Format::Om, &WriteOptions::default()).unwrap(), Format::Om).unwrap();
+        let (back, _) =
+            read_bytes(&write_bytes(&a, Format::Om, &WriteOptions::default()).unwrap(), Format::Om).unwrap();
         assert_eq!(bits(&back.points), bits(&data.points), "{}", path.display());
         assert_eq!(back.face_indices, a.face_indices, "{}", path.display());
         assert_eq!(back.fixed, data.fixed, "{}", path.display());

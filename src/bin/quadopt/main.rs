@@ -10,6 +10,7 @@
 //! regular file is replaced atomically, a device or FIFO written in place); `-o -` writes to
 //! stdout, and the report then goes to stderr.
 
+mod openmesh_io;
 mod svg;
 
 /// Whether the report goes to stderr because stdout carries the output mesh (`-o -`).
@@ -57,7 +58,7 @@ use std::time::{Duration, Instant};
 #[derive(Parser)]
 #[command(
     name = "quadopt",
-    version,
+    version = openmesh_io::VERSION,
     about = "Quality optimizer for 2D quad meshes (embedded polygon method)"
 )]
 struct Cli {
@@ -66,6 +67,9 @@ struct Cli {
     /// Number of threads (default: one per core); results are identical on any number.
     #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
     threads: Option<usize>,
+    /// Reader for .obj and .off: auto (quadopt's) or openmesh (.ply and .om always use OpenMesh).
+    #[arg(long, global = true, value_enum, default_value_t)]
+    reader: openmesh_io::Reader,
 }
 
 fn parse_threads(s: &str) -> Result<usize, String> {
@@ -270,6 +274,10 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return usage_error(&e),
     };
+    if let Err(m) = openmesh_io::set_reader(cli.reader) {
+        eprintln!("quadopt: error: {m}");
+        return ExitCode::from(2);
+    }
     #[cfg(unix)]
     remove_temporary_files_on_signal();
     let result = match cli.threads {
@@ -387,7 +395,7 @@ struct Loaded {
 }
 
 fn load(path: &Path) -> Result<Loaded, Fail> {
-    let data = io::read_mesh(path)?;
+    let data = openmesh_io::read_mesh(path)?;
     let planar = PlanarMesh::new(&data).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     Ok(Loaded { data, planar })
 }
@@ -475,12 +483,20 @@ fn cmd_optimize(
     as_json: bool,
 ) -> Result<(), Fail> {
     let options = opts.options()?;
-    let format = output_format(output, format, Format::from_path(input).ok())?;
+    let format = if openmesh_io::handles_output(output) {
+        openmesh_io::check_output(output)?;
+        None
+    } else {
+        Some(output_format(output, format, Format::from_path(input).ok())?)
+    };
     let Loaded { mut data, mut planar } = load(input)?;
     let optimizer = Optimizer::new(&planar.mesh);
     let report = run(&optimizer, &mut planar.mesh, &options, !as_json)?;
     planar.write_back(&mut data);
-    write_mesh_output(output, format, &data)?;
+    match format {
+        Some(format) => write_mesh_output(output, format, &data)?,
+        None => openmesh_io::write_mesh(output, &data)?,
+    }
     REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
     if as_json {
         let mut v = json!({
@@ -683,7 +699,12 @@ fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Res
 }
 
 fn cmd_generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Result<(), Fail> {
-    let format = output_format(output, format, None)?;
+    let format = if openmesh_io::handles_output(output) {
+        openmesh_io::check_output(output)?;
+        None
+    } else {
+        Some(output_format(output, format, None)?)
+    };
     if !(0.0..1.0).contains(&spec.hole_size) {
         return Err(Fail::Usage(format!("--hole-size {} is not in [0, 1)", spec.hole_size)));
     }
@@ -695,7 +716,11 @@ fn cmd_generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Resu
     }
     let mesh = spec.generate();
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
-    write_mesh_output(output, format, &MeshData::new(points, mesh.quads_as_given()))?;
+    let data = MeshData::new(points, mesh.quads_as_given());
+    match format {
+        Some(format) => write_mesh_output(output, format, &data)?,
+        None => openmesh_io::write_mesh(output, &data)?,
+    }
     REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
     let q = mesh.quality();
     outln!(

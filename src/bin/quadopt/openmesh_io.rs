@@ -1,0 +1,166 @@
+//! Mesh files through OpenMesh (cargo feature `openmesh`, crate openmesh-sys): `.ply` and `.om`
+//! are always read and written with OpenMesh; `--reader openmesh` also reads `.obj` and `.off`
+//! with it (as an OpenMesh-based tool would load them). Every other case goes to quadopt's own
+//! readers and writers (`quadopt::io`). Without the feature, `.ply` and `.om` are an error that
+//! says how to get them.
+
+use quadopt::io::{self, MeshData};
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// Which reader loads `.obj` and `.off` files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Reader {
+    /// quadopt's own parsers for .obj, .off, .vtk, .msh; OpenMesh for .ply and .om.
+    #[default]
+    Auto,
+    /// OpenMesh for every format it reads (.ply, .om, .obj, .off).
+    Openmesh,
+}
+
+/// `--version`: the package version and whether OpenMesh support is compiled in.
+pub const VERSION: &str = if cfg!(feature = "openmesh") {
+    concat!(env!("CARGO_PKG_VERSION"), " (OpenMesh support: PLY, OM; --reader openmesh)")
+} else {
+    concat!(env!("CARGO_PKG_VERSION"), " (without OpenMesh support: build with --features openmesh)")
+};
+
+static READER: OnceLock<Reader> = OnceLock::new();
+
+/// Records `--reader` (once, from main).
+pub fn set_reader(reader: Reader) -> Result<(), String> {
+    if reader == Reader::Openmesh && !cfg!(feature = "openmesh") {
+        return Err("--reader openmesh: this quadopt was built without OpenMesh support (build with --features openmesh)".into());
+    }
+    let _ = READER.set(reader);
+    Ok(())
+}
+
+fn extension(path: &Path) -> String {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default()
+}
+
+/// Whether OpenMesh handles this file: `.ply`, `.om`, and `.obj`/`.off` when `reading` with
+/// `--reader openmesh`.
+fn through_openmesh(path: &Path, reading: bool) -> bool {
+    match extension(path).as_str() {
+        "ply" | "om" => true,
+        "obj" | "off" => reading && READER.get() == Some(&Reader::Openmesh),
+        _ => false,
+    }
+}
+
+#[cfg(not(feature = "openmesh"))]
+fn without_openmesh(path: &Path) -> String {
+    format!(
+        "{}: .{} files are read and written through OpenMesh, which this quadopt was built without \
+         (build with --features openmesh)",
+        path.display(),
+        extension(path)
+    )
+}
+
+/// Reads a mesh file with OpenMesh or quadopt's readers (see the module documentation).
+pub fn read_mesh(path: &Path) -> Result<MeshData, String> {
+    if !through_openmesh(path, true) {
+        return io::read_mesh(path).map_err(|e| e.to_string());
+    }
+    #[cfg(feature = "openmesh")]
+    {
+        let (arrays, _) = openmesh_sys::read(path).map_err(|e| e.to_string())?;
+        to_mesh_data(&arrays).map_err(|m| format!("{}: {m}", path.display()))
+    }
+    #[cfg(not(feature = "openmesh"))]
+    Err(without_openmesh(path))
+}
+
+/// Whether OpenMesh writes `path` (`.ply`, `.om`); other outputs go to quadopt's writers.
+pub fn handles_output(path: &Path) -> bool {
+    through_openmesh(path, false)
+}
+
+/// Checks, before any work, that `path` names a format that can be written.
+pub fn check_output(path: &Path) -> Result<(), String> {
+    if through_openmesh(path, false) {
+        #[cfg(not(feature = "openmesh"))]
+        return Err(without_openmesh(path));
+        #[cfg(feature = "openmesh")]
+        return Ok(());
+    }
+    io::Format::from_path(path).map(|_| ()).map_err(|e| e.to_string())
+}
+
+/// Writes a mesh file with OpenMesh (`.ply`, `.om`) or quadopt's writers; either way the file
+/// itself is written by `quadopt::io::write_file` (a securely created temporary file renamed
+/// over a regular file, devices and FIFOs in place).
+pub fn write_mesh(path: &Path, data: &MeshData) -> Result<(), String> {
+    if !through_openmesh(path, false) {
+        return io::write_mesh(path, data).map_err(|e| e.to_string());
+    }
+    #[cfg(feature = "openmesh")]
+    {
+        data.check().map_err(|e| e.to_string())?;
+        let arrays = to_arrays(data);
+        // OpenMesh 9 stores PLY coordinates as float32: say so when that rounds anything.
+        let rounded = arrays.points.iter().filter(|p| p.iter().any(|&c| f64::from(c as f32) != c)).count();
+        let binary = extension(path) == "ply";
+        let options = openmesh_sys::WriteOptions { binary, round_to_f32: true };
+        let format = openmesh_sys::Format::from_path(path)
+            .ok_or_else(|| format!("{}: not a PLY or OM file", path.display()))?;
+        let bytes = openmesh_sys::write_bytes(&arrays, format, &options)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        io::write_file(path, &bytes).map_err(|e| e.to_string())?;
+        if rounded > 0 && !openmesh_sys::Format::from_path(path).is_some_and(|f| f.keeps_f64()) {
+            eprintln!(
+                "quadopt: note: {}: PLY through OpenMesh 9 stores float32 coordinates; {rounded} vertices \
+                 were rounded (write .om for full precision)",
+                path.display()
+            );
+        }
+        Ok(())
+    }
+    #[cfg(not(feature = "openmesh"))]
+    Err(without_openmesh(path))
+}
+
+/// OpenMesh's arrays as quadopt's mesh: every face must be a quad.
+#[cfg(feature = "openmesh")]
+fn to_mesh_data(a: &openmesh_sys::MeshArrays) -> Result<MeshData, String> {
+    let mut quads = Vec::with_capacity(a.face_count());
+    for (f, face) in a.faces().enumerate() {
+        match face {
+            &[v0, v1, v2, v3] => quads.push([v0, v1, v2, v3]),
+            _ => return Err(format!("face {f} has {} vertices; only quads are supported", face.len())),
+        }
+    }
+    let data = MeshData { points: a.points.clone(), quads, fixed: a.fixed.clone(), ..MeshData::default() };
+    data.check().map_err(|e| e.to_string())?;
+    Ok(data)
+}
+
+/// quadopt's mesh as OpenMesh's arrays.
+#[cfg(feature = "openmesh")]
+fn to_arrays(data: &MeshData) -> openmesh_sys::MeshArrays {
+    let mut a = openmesh_sys::MeshArrays::new(data.points.clone(), &data.quads);
+    a.fixed = data.fixed.clone();
+    a
+}
+
+#[cfg(all(test, feature = "openmesh"))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quads_convert_both_ways_and_other_faces_are_refused() {
+        let mut data = MeshData::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.5, 0.0]],
+            vec![[0, 1, 2, 3]],
+        );
+        data.fixed = Some(vec![true, false, false, true, false]);
+        let arrays = to_arrays(&data);
+        assert_eq!(arrays.face(0), &[0, 1, 2, 3]);
+        assert_eq!(to_mesh_data(&arrays).unwrap(), data);
+        let tri = openmesh_sys::MeshArrays::new(data.points.clone(), [vec![0, 1, 2, 3], vec![1, 4, 2]]);
+        assert_eq!(to_mesh_data(&tri).unwrap_err(), "face 1 has 3 vertices; only quads are supported");
+    }
+}

@@ -417,7 +417,7 @@ def gmsh_coords(gmsh, tag_index, n):
     return out
 
 
-def run_gmsh(mesh_source, repeat, out_dir, label):
+def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
     """Runs the three gmsh optimizers. mesh_source is ("plate", quads_wanted) or ("file", Mesh).
     Returns (input Mesh, input path or None, {method: result dict}), writing the outputs."""
     gmsh = gmsh_start()
@@ -473,7 +473,10 @@ def run_gmsh(mesh_source, repeat, out_dir, label):
 
         elem_before = [x.copy() for x in gmsh.model.mesh.getElements(2)[2]]
         for method in GMSH_METHODS:
-            times, first = [], None
+            if method == "UntangleMeshGeometry" and len(mesh.quads) > untangle_max_quads:
+                note(f"{label}: gmsh {method} skipped ({len(mesh.quads)} quads > --untangle-max-quads {untangle_max_quads})")
+                continue
+            times, cpu, first = [], [], None
             for r in range(repeat):
                 if times and times[0] > LONG_RUN:
                     break
@@ -481,9 +484,10 @@ def run_gmsh(mesh_source, repeat, out_dir, label):
                 c0 = coords()
                 if not np.array_equal(c0[used], mesh.points[used]):
                     raise RuntimeError("gmsh's nodes differ from the input before a run")
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 gmsh.model.mesh.optimize(method)
                 times.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
                 c = coords()
                 if first is None:
                     first = c
@@ -497,7 +501,7 @@ def run_gmsh(mesh_source, repeat, out_dir, label):
             out[unused] = mesh.points[unused]
             out_path = os.path.join(out_dir, f"{label}.gmsh-{method}.vtk")
             write_vtk(out_path, Mesh(out, mesh.quads, mesh.fixed))
-            results[method] = dict(seconds=statistics.median(times), times=times, output=out_path,
+            results[method] = dict(seconds=statistics.median(times), times=times, cpu_seconds=cpu, output=out_path,
                                    held_moved=int(np.count_nonzero((out[held] != mesh.points[held]).any(axis=1))))
         reset()
     finally:
@@ -730,7 +734,7 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
         try:
             t0 = time.perf_counter()
             gsrc = ("plate", source[1]) if source[0] == "plate" else ("file", mesh)
-            m, p, gmsh_res = run_gmsh(gsrc, repeat, out_dir, stem)
+            m, p, gmsh_res = run_gmsh(gsrc, repeat, out_dir, stem, args.untangle_max_quads)
             if source[0] == "plate":
                 mesh, path = m, p
             note(f"{label}: gmsh done in {time.perf_counter() - t0:.1f} s")
@@ -794,7 +798,8 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
         cross_check(label, name, q, quality(quadopt, r["output"]))
         peer = name.startswith("gmsh") or name == "DMO"
         ratio = q_time / r["seconds"] if (q_time is not None and r["seconds"] > 0 and peer) else None
-        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], min=q["min"], avg=q["avg"],
+        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
+                         min=q["min"], avg=q["avg"],
                          inverted=q["inverted"], quadopt_ratio=ratio, flags=flags))
     return rows
 
@@ -831,6 +836,8 @@ def main():
     ap.add_argument("--no-dmo", action="store_true", help="do not run DMO")
     ap.add_argument("--dmo-max-quads", type=int, default=300000, help="skip DMO above this many quads (default 300000)")
     ap.add_argument("--dmo-repeat", type=int, default=1, help="DMO runs per mesh (default 1)")
+    ap.add_argument("--untangle-max-quads", type=int, default=50000,
+                    help="skip gmsh UntangleMeshGeometry above this many quads (default 50000: it takes minutes)")
     ap.add_argument("--no-gmsh", action="store_true", help="do not run gmsh's optimizers on file meshes")
     ap.add_argument("--repeat", type=int, help="runs per tool and mesh, median reported (default 3; 1 from 500k quads)")
     ap.add_argument("--json", metavar="PATH", help="also write all rows (with every run's time) as JSON to PATH ('-': stdout)")

@@ -3,9 +3,16 @@
 
 Usage:  pip install -r tools/requirements.txt numpy        # gmsh 4.15.2 (pinned) and numpy
         cargo build --release
-        python3 tools/bench_peers.py                        # 10k and 200k plates, data/, Mesquite
-        python3 tools/bench_peers.py --sizes 10k,200k,1m --json results.json
-        python3 tools/bench_peers.py --sizes none --only plate_2holes    # one sample mesh
+        python3 tools/bench_peers.py                    # 10k, 200k, 1M plates, data/, Mesquite
+        python3 tools/bench_peers.py --skip-1m --json results.json
+        python3 tools/bench_peers.py --sizes none --only plate_2holes    # sample meshes only
+
+The table goes to stdout, notes (skipped meshes and tools, checks that failed) to stderr.
+Columns: mesh, quads, tool ("input" is the mesh as given), seconds (median wall-clock time of
+the smoothing step alone, no meshing or file IO), min SJ / avg SJ (minimum and mean scaled
+Jacobian over all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided
+by the tool's (below 1: quadopt is faster). "(!)" after a tool marks an output that failed a
+check (see the notes).
 
 Meshes
 ------

@@ -9,10 +9,14 @@ Usage:  pip install -r tools/requirements.txt numpy        # gmsh 4.15.2 (pinned
 
 The table goes to stdout, notes (skipped meshes and tools, checks that failed) to stderr.
 Columns: mesh, quads, tool ("input" is the mesh as given), seconds (median wall-clock time of
-the smoothing step alone, no meshing or file IO), min SJ / avg SJ (minimum and mean scaled
-Jacobian over all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided
-by the tool's (below 1: quadopt is faster). "(!)" after a tool marks an output that failed a
-check (see the notes).
+the smoothing step alone, no meshing or file IO), CPU s (CPU seconds of that step, all threads:
+gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's CPU time minus
+that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
+fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
+all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided by the
+tool's, wall-clock and CPU (below 1: quadopt is faster). On a machine shared with other work the
+CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
+the notes).
 
 Meshes
 ------
@@ -67,6 +71,7 @@ import argparse
 import json
 import math
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -508,7 +513,7 @@ def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
             out[unused] = mesh.points[unused]
             out_path = os.path.join(out_dir, f"{label}.gmsh-{method}.vtk")
             write_vtk(out_path, Mesh(out, mesh.quads, mesh.fixed))
-            results[method] = dict(seconds=statistics.median(times), times=times, cpu_seconds=cpu, output=out_path,
+            results[method] = dict(seconds=statistics.median(times), times=times, cpu_seconds=cpu, cpu=statistics.median(cpu), output=out_path,
                                    held_moved=int(np.count_nonzero((out[held] != mesh.points[held]).any(axis=1))))
         reset()
     finally:
@@ -634,16 +639,31 @@ class Evaluator:
         return dict(min=float(sj.min()), avg=float(sj.mean()), inverted=int(np.count_nonzero(sj <= 0)), quads=len(sj))
 
 
+def child_cpu():
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
+
+
 def run_quadopt(quadopt, in_path, out_path, repeat, extra=()):
-    times = []
+    """quadopt's own timing of the run (no IO); the process's CPU seconds (with IO) go to the
+    JSON only, as a check on a loaded machine."""
+    times, cpu = [], []
     for _ in range(repeat):
         if times and times[0] > LONG_RUN:
             break
+        c0 = child_cpu()
         r = subprocess.run([quadopt, "optimize", in_path, "-o", out_path, "--json", *extra], capture_output=True, text=True)
+        cpu.append(child_cpu() - c0)
         if r.returncode != 0:
             raise RuntimeError(r.stderr.strip() or r.stdout.strip())
         times.append(json.loads(r.stdout)["seconds"])
-    return dict(seconds=statistics.median(times), times=times, output=out_path)
+    # CPU of the same read, set-up and write with a single sweep, to take IO out of the CPU time.
+    c0 = child_cpu()
+    subprocess.run([quadopt, "optimize", in_path, "-o", out_path + ".io.vtk", "--json", "--max-iter", "1",
+                    "--boundary", "fixed", "--no-untangle"], capture_output=True, text=True)
+    io = child_cpu() - c0
+    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
+                cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
 
 
 def build_dmo(dmo_dir, out_dir):
@@ -658,10 +678,12 @@ def build_dmo(dmo_dir, out_dir):
 
 
 def run_dmo(exe, in_path, out_path, repeat):
-    times = []
+    times, cpu = [], []
     env = dict(os.environ, OMP_NUM_THREADS="1")
     for _ in range(repeat):
+        c0 = child_cpu()
         r = subprocess.run([exe, "--metric", "vsj", in_path, out_path], capture_output=True, text=True, env=env)
+        cpu.append(child_cpu() - c0)
         try:
             j = json.loads(r.stdout.strip().splitlines()[-1])
         except (ValueError, IndexError):
@@ -671,7 +693,11 @@ def run_dmo(exe, in_path, out_path, repeat):
         if j.get("threads") != 1:
             raise RuntimeError(f"DMO ran with {j.get('threads')} threads")
         times.append(j["seconds"])
-    return dict(seconds=statistics.median(times), times=times, output=out_path)
+    c0 = child_cpu()
+    subprocess.run([exe, "--metric", "vsj", "--iters", "0", in_path, out_path + ".io.vtk"], capture_output=True, text=True, env=env)
+    io = child_cpu() - c0
+    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
+                cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
 
 
 # --------------------------------------------------------------------------------------------
@@ -788,7 +814,7 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
     elif dmo_exe:
         note(f"{label}: DMO skipped ({nq} quads > --dmo-max-quads {args.dmo_max_quads})")
 
-    q_time = next((r["seconds"] for name, r, _ in runs if name == "quadopt"), None)
+    q_run = next((r for name, r, _ in runs if name == "quadopt"), None)
     for name, r, must_hold in runs:
         chk = check_output(mesh, r["output"], must_hold)
         flags = []
@@ -803,22 +829,29 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
             note(f"{label}: {name}: {f}")
         q = evaluator.stats(read_vtk(r["output"]).points)
         cross_check(label, name, q, quality(quadopt, r["output"]))
-        peer = name.startswith("gmsh") or name == "DMO"
-        ratio = q_time / r["seconds"] if (q_time is not None and r["seconds"] > 0 and peer) else None
+        peer = (name.startswith("gmsh") or name == "DMO") and q_run is not None
+        ratio = q_run["seconds"] / r["seconds"] if peer and r["seconds"] > 0 else None
+        cpu_ratio = q_run["cpu"] / r["cpu"] if peer and r["cpu"] > 0 else None
         rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
+                         process_cpu_seconds=r.get("process_cpu_seconds"),
                          min=q["min"], avg=q["avg"],
-                         inverted=q["inverted"], quadopt_ratio=ratio, flags=flags))
+                         inverted=q["inverted"], cpu=r["cpu"], quadopt_ratio=ratio, quadopt_cpu_ratio=cpu_ratio, flags=flags))
     return rows
 
 
+def fmt_seconds(x):
+    return "–" if x is None else (f"{x:.4f}" if x < 1 else f"{x:.2f}")
+
+
 def fmt_rows(rows):
-    out = ["| mesh | quads | tool | seconds | min SJ | avg SJ | inverted | quadopt time / tool time |",
-           "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
+    out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | quadopt / tool (s) | quadopt / tool (CPU) |",
+           "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
-        sec = "–" if r["seconds"] is None else (f"{r['seconds']:.4f}" if r["seconds"] < 1 else f"{r['seconds']:.2f}")
         ratio = "" if r.get("quadopt_ratio") is None else f"{r['quadopt_ratio']:.3g}"
+        cratio = "" if r.get("quadopt_cpu_ratio") is None else f"{r['quadopt_cpu_ratio']:.3g}"
         tool = r["tool"] + (" (!)" if r.get("flags") else "")
-        out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {sec} | {r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {ratio} |")
+        out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
+                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {ratio} | {cratio} |")
     return "\n".join(out)
 
 

@@ -855,6 +855,38 @@ def fmt_rows(rows):
     return "\n".join(out)
 
 
+def fmt_wide(rows):
+    """One row per mesh: per tool "min / avg (inverted) CPU s" and quadopt's CPU ratio to each peer."""
+    tools = []
+    for r in rows:
+        if r["tool"] not in tools:
+            tools.append(r["tool"])
+    by_mesh = {}
+    for r in rows:
+        by_mesh.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = r
+    head = "| mesh | quads | " + " | ".join(tools) + " |"
+    out = [head, "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
+    for (mesh, nq), t in by_mesh.items():
+        cells = []
+        for name in tools:
+            r = t.get(name)
+            if r is None:
+                cells.append("–")
+                continue
+            c = f"{r['min']:.3f} / {r['avg']:.3f}"
+            if r["inverted"]:
+                c += f" ({r['inverted']} inv.)"
+            if r.get("cpu") is not None:
+                c += f", {fmt_seconds(r['cpu'])} s"
+            if r.get("quadopt_cpu_ratio") is not None:
+                c += f" (q/t {r['quadopt_cpu_ratio']:.2g})"
+            if r.get("flags"):
+                c += " (!)"
+            cells.append(c)
+        out.append(f"| {mesh} | {nq} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -880,8 +912,16 @@ def main():
                     help="skip gmsh UntangleMeshGeometry above this many quads (default 50000: it takes minutes)")
     ap.add_argument("--no-gmsh", action="store_true", help="do not run gmsh's optimizers on file meshes")
     ap.add_argument("--repeat", type=int, help="runs per tool and mesh, median reported (default 3; 1 from 500k quads)")
+    ap.add_argument("--wide", action="store_true",
+                    help="one row per mesh (min / avg, CPU seconds, quadopt's CPU ratio per tool) instead of one per tool")
     ap.add_argument("--json", metavar="PATH", help="also write all rows (with every run's time) as JSON to PATH ('-': stdout)")
+    ap.add_argument("--from-json", metavar="PATH", help="print the table of an earlier --json file instead of running")
     args = ap.parse_args()
+    if args.from_json:
+        with open(args.from_json) as f:
+            rows = json.load(f)["rows"]
+        print(fmt_wide(rows) if args.wide else fmt_rows(rows))
+        return
 
     import gmsh
 
@@ -925,7 +965,7 @@ def main():
     rows = []
     for label, source in meshes:
         rows += bench_mesh(args, label, source, quadopt, dmo_exe)
-    table = fmt_rows(rows)
+    table = fmt_wide(rows) if args.wide else fmt_rows(rows)
     if args.json:
         text = json.dumps(dict(gmsh=gmsh.__version__, rows=rows), indent=1)
         if args.json == "-":

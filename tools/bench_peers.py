@@ -14,7 +14,8 @@ gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's C
 that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
 fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
 all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided by the
-tool's, wall-clock and CPU (below 1: quadopt is faster). On a machine shared with other work the
+tool's, wall-clock and CPU (below 1: quadopt is faster; no CPU ratio where either CPU time is
+under 1 ms, the noise of process accounting). On a machine shared with other work the
 CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
 the notes).
 
@@ -836,7 +837,7 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
         cross_check(label, name, q, quality(quadopt, r["output"]))
         peer = (name.startswith("gmsh") or name == "DMO") and q_run is not None
         ratio = q_run["seconds"] / r["seconds"] if peer and r["seconds"] > 0 else None
-        cpu_ratio = q_run["cpu"] / r["cpu"] if peer and r["cpu"] > 0 else None
+        cpu_ratio = q_run["cpu"] / r["cpu"] if peer and min(r["cpu"], q_run["cpu"]) >= CPU_FLOOR else None
         rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
                          process_cpu_seconds=r.get("process_cpu_seconds"),
                          min=q["min"], avg=q["avg"],
@@ -844,16 +845,32 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
     return rows
 
 
+# CPU times below this (seconds) are within the noise of process accounting: no CPU ratio.
+CPU_FLOOR = 1e-3
+
+
 def fmt_seconds(x):
     return "–" if x is None else (f"{x:.4f}" if x < 1 else f"{x:.2f}")
+
+
+def cpu_ratios(rows):
+    """quadopt's CPU seconds over each peer's, per row (None where either is below CPU_FLOOR)."""
+    q = {r["mesh"]: r.get("cpu") for r in rows if r["tool"] == "quadopt"}
+    out = []
+    for r in rows:
+        qc, tc = q.get(r["mesh"]), r.get("cpu")
+        peer = r["tool"].startswith("gmsh") or r["tool"] == "DMO"
+        ok = peer and qc is not None and tc is not None and qc >= CPU_FLOOR and tc >= CPU_FLOOR
+        out.append(qc / tc if ok else None)
+    return out
 
 
 def fmt_rows(rows):
     out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | quadopt / tool (s) | quadopt / tool (CPU) |",
            "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
+    for r, cr in zip(rows, cpu_ratios(rows)):
         ratio = "" if r.get("quadopt_ratio") is None else f"{r['quadopt_ratio']:.3g}"
-        cratio = "" if r.get("quadopt_cpu_ratio") is None else f"{r['quadopt_cpu_ratio']:.3g}"
+        cratio = "" if cr is None else f"{cr:.3g}"
         tool = r["tool"] + (" (!)" if r.get("flags") else "")
         out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
                    f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {ratio} | {cratio} |")
@@ -867,8 +884,8 @@ def fmt_wide(rows):
         if r["tool"] not in tools:
             tools.append(r["tool"])
     by_mesh = {}
-    for r in rows:
-        by_mesh.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = r
+    for r, cr in zip(rows, cpu_ratios(rows)):
+        by_mesh.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = dict(r, cpu_ratio=cr)
     head = "| mesh | quads | " + " | ".join(tools) + " |"
     out = [head, "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
     for (mesh, nq), t in by_mesh.items():
@@ -883,8 +900,8 @@ def fmt_wide(rows):
                 c += f" ({r['inverted']} inv.)"
             if r.get("cpu") is not None:
                 c += f", {fmt_seconds(r['cpu'])} s"
-            if r.get("quadopt_cpu_ratio") is not None:
-                c += f" (q/t {r['quadopt_cpu_ratio']:.2g})"
+            if r["cpu_ratio"] is not None:
+                c += f" (q/t {r['cpu_ratio']:.2g})"
             if r.get("flags"):
                 c += " (!)"
             cells.append(c)

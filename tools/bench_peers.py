@@ -1,0 +1,1003 @@
+#!/usr/bin/env python3
+"""Side-by-side comparison of quadopt with gmsh's 2D smoothers and with DMO, on the same meshes.
+
+Usage:  pip install -r tools/requirements.txt numpy        # gmsh 4.15.2 (pinned) and numpy
+        cargo build --release
+        python3 tools/bench_peers.py                    # 10k, 200k, 1M plates, data/, Mesquite
+        python3 tools/bench_peers.py --skip-1m --json results.json
+        python3 tools/bench_peers.py --sizes none --only plate_2holes    # sample meshes only
+
+The table goes to stdout, notes (skipped meshes and tools, checks that failed) to stderr.
+Columns: mesh, quads, tool ("input" is the mesh as given), seconds (median wall-clock time of
+the smoothing step alone, no meshing or file IO), CPU s (CPU seconds of that step, all threads:
+gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's CPU time minus
+that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
+fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
+all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided by the
+tool's, wall-clock and CPU (below 1: quadopt is faster; no CPU ratio where either CPU time is
+under 1 ms, the noise of process accounting). On a machine shared with other work the
+CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
+the notes).
+
+Meshes
+------
+* Synthetic plates: a 10 x 5 rectangle with ten circular holes (the geometry of
+  data/plate_10holes.vtk), meshed by gmsh with Frontal-Delaunay (Mesh.Algorithm = 6) and
+  Blossom recombination in its all-quad form (Mesh.RecombinationAlgorithm = 3: triangulate at
+  twice the size, recombine, then split every element into quads; plain Blossom leaves a few
+  triangles at these sizes), no smoothing (Mesh.Smoothing = 0), one thread, fixed seed; the mesh
+  size is chosen for about 10k, 200k or 1M quads (--sizes). This gives inputs like the issue's
+  reference plate (min/avg scaled Jacobian about 0.2/0.87).
+* every mesh in data/ and in the Mesquite test meshes (../shared/meshes/mesquite relative to the
+  repository, or --mesquite DIR), when quadopt can read it (curved surfaces, triangles: skipped
+  with a note).
+
+Tools (each on the same input nodes; "held" = never moved)
+----------------------------------------------------------
+* gmsh Laplace2D, Relocate2D, UntangleMeshGeometry: `gmsh.model.mesh.optimize(name)` with
+  General.NumThreads = 1, Mesh.Renumber = 0, on a plane surface, boundary nodes held (gmsh's 2D
+  optimizers only move nodes classified on the surface). Synthetic plates are smoothed in the
+  session that meshed them (OpenCASCADE plane surface). A mesh read from a file is rebuilt in a
+  new session: every boundary node becomes a geometric point, every boundary edge a line, the
+  boundary loops a plane surface (built-in kernel); interior nodes are added on that surface with
+  the surface's own parametric coordinates, nodes flagged in a `fixed` array become geometric
+  points too (so they are held), quads are given in the surface's orientation. Between the
+  optimizers (and between repeats) every node is put back with `setNode`, and the script checks
+  that the coordinates are bit-identical to the file's before each run. Only the optimize call
+  is timed. Why a plane surface: on a discrete surface (a mesh merged or added as is) none of
+  the three optimizers moves any node, even with force=True. Checked on the 2k-quad plate: the
+  rebuilt surface gives UntangleMeshGeometry's result of the meshing session to 1e-16, and
+  Laplace2D's and Relocate2D's within 0.03 on the minimum and 3e-4 on the average (they visit
+  the nodes in another order). UntangleMeshGeometry is skipped above --untangle-max-quads
+  (default 50000; it took 50 CPU-s on 13.7k quads and did not finish in 10 min on 186k).
+* quadopt: `quadopt optimize IN -o OUT --json` with the default options (boundary `auto`: the
+  boundary may slide along itself or snap; `fixed` vertices held); the time is the run's own
+  `seconds` (no file IO). With --quadopt-fixed also a `--boundary fixed` run, the setting that
+  holds exactly what the peers hold.
+* DMO (Zint and Grosso, IMR 2018): the driver in --dmo DIR (default ../shared/peers/dmo, or
+  $QUADOPT_DMO_DIR), built once with its build.sh into --out-dir, run as
+  `OMP_NUM_THREADS=1 dmo_smooth --metric vsj IN OUT` (Verdict's quad scaled Jacobian, 100
+  sweeps, boundary and `fixed` vertices held); its time is the driver's `seconds` (set-up and
+  solve, no file IO). Skipped with a note when the directory or a compiler is missing.
+
+Every output is evaluated by ONE evaluator (class Evaluator: a numpy implementation of quadopt's
+signed scaled Jacobian, which equals Verdict's quad scaled Jacobian on every quad that is not
+inverted), always against the input's orientation, so min, avg and inverted (quads with scaled
+Jacobian <= 0) mean the same for every tool. `quadopt quality --json` is run on every file as a
+cross-check; where the two differ (only when a tool flipped a whole component, since quadopt
+orients each file by itself) a note says so. The script also checks, per
+output, that the quads are the input's and that every held vertex is bit-identical to the
+input; a violation is printed as a note and flagged in the table. Times are medians over
+--repeat runs (default 3, or 1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1;
+a run that took more than 20 s is not repeated); the gmsh runs of one optimizer must give
+bit-identical coordinates on every repeat.
+"""
+
+import argparse
+import json
+import math
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+GMSH_VERSION = "4.15.2"
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GMSH_METHODS = ["Laplace2D", "Relocate2D", "UntangleMeshGeometry"]
+# A run longer than this many seconds is not repeated (its time is far from any noise).
+LONG_RUN = 20.0
+
+# The plate of data/plate_10holes.vtk: 10 x 5 minus ten disks (x, y, r).
+PLATE_W, PLATE_H = 10.0, 5.0
+PLATE_DISKS = [(1.0, 1.0, 0.45), (1.1, 3.9, 0.5), (2.8, 2.5, 0.6), (4.4, 1.0, 0.4), (4.5, 3.9, 0.45),
+               (6.0, 2.4, 0.55), (7.5, 1.0, 0.4), (7.6, 3.9, 0.5), (9.0, 2.5, 0.45), (4.35, 2.45, 0.3)]
+# Quads per unit of (mesh size)^-2 for this plate with Mesh.RecombinationAlgorithm = 3 (measured).
+QUADS_PER_INV_SIZE2 = 57.9
+
+
+def note(msg):
+    print(f"note: {msg}", file=sys.stderr, flush=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Legacy VTK (ASCII) in and out
+# --------------------------------------------------------------------------------------------
+
+
+class Mesh:
+    """Points (n x 3 float64), quads (m x 4 int, as in the file), fixed flags (n bools) or None."""
+
+    def __init__(self, points, quads, fixed):
+        self.points = points
+        self.quads = quads
+        self.fixed = fixed
+
+
+def read_vtk(path):
+    """Reads an ASCII legacy VTK UNSTRUCTURED_GRID (quads, type 9; vertex and line cells are
+    ignored) or POLYDATA (4-vertex POLYGONS) with an optional point-data array `fixed`."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    if len(lines) < 4 or lines[2].strip().upper() != "ASCII":
+        raise ValueError("not an ASCII legacy VTK file")
+    tok = " ".join(lines[3:]).split()
+    i, pts, cells, types, polys, fixed = 0, None, None, None, None, None
+    section, count = None, 0
+
+    def nums(k, conv=float):
+        nonlocal i
+        if i + k > len(tok):
+            raise ValueError("truncated file")
+        v = [conv(t) for t in tok[i : i + k]]
+        i += k
+        return v
+
+    while i < len(tok):
+        k = tok[i].upper()
+        i += 1
+        if k == "DATASET":
+            if tok[i].upper() not in ("UNSTRUCTURED_GRID", "POLYDATA"):
+                raise ValueError(f"dataset {tok[i]} not supported")
+            i += 1
+        elif k == "POINTS":
+            n = int(tok[i])
+            i += 2
+            pts = np.array(nums(3 * n), dtype=np.float64).reshape(n, 3)
+        elif k in ("CELLS", "POLYGONS"):
+            ncells = int(tok[i])
+            i += 2
+            if tok[i].upper() == "OFFSETS":
+                raise ValueError("VTK 5 OFFSETS layout not supported by this reader")
+            # Walk the per-cell counts: some files give a wrong total size.
+            data = []
+            for _ in range(ncells):
+                c = int(tok[i])
+                data += nums(c + 1, int)
+            if k == "CELLS":
+                cells = data
+            else:
+                polys = data
+        elif k == "CELL_TYPES":
+            n = int(tok[i])
+            i += 1
+            types = nums(n, int)
+        elif k in ("POINT_DATA", "CELL_DATA"):
+            section, count = k, int(tok[i])
+            i += 1
+        elif k == "SCALARS":
+            name = tok[i]
+            i += 2
+            ncomp = 1
+            if i < len(tok) and tok[i].isdigit():
+                ncomp = int(tok[i])
+                i += 1
+            if i < len(tok) and tok[i].upper() == "LOOKUP_TABLE":
+                i += 2
+            vals = nums(count * ncomp)
+            if section == "POINT_DATA" and name == "fixed":
+                fixed = np.array(vals).reshape(count, ncomp).any(axis=1)
+        elif k == "FIELD":
+            narr = int(tok[i + 1])
+            i += 2
+            for _ in range(narr):
+                name, ncomp, ntup = tok[i], int(tok[i + 1]), int(tok[i + 2])
+                i += 4
+                vals = nums(ncomp * ntup)
+                if section == "POINT_DATA" and name == "fixed":
+                    fixed = np.array(vals).reshape(ntup, ncomp).any(axis=1)
+        elif k == "METADATA":
+            raise ValueError("METADATA blocks not supported by this reader")
+        else:
+            raise ValueError(f"unsupported VTK keyword {k!r}")
+    if pts is None:
+        raise ValueError("no POINTS")
+    quads = []
+    if polys is not None:
+        j = 0
+        while j < len(polys):
+            if polys[j] != 4:
+                raise ValueError("a polygon is not a quad")
+            quads.append(polys[j + 1 : j + 5])
+            j += polys[j] + 1
+    if cells is not None:
+        j = 0
+        for t in types:
+            n = cells[j]
+            if t == 9:
+                quads.append(cells[j + 1 : j + 5])
+            elif t not in (1, 2, 3, 4):
+                raise ValueError(f"not an all-quad mesh (VTK cell type {t})")
+            j += n + 1
+    if not quads:
+        raise ValueError("no quads")
+    if fixed is not None and len(fixed) != len(pts):
+        raise ValueError("fixed array size differs from the point count")
+    return Mesh(pts, np.array(quads, dtype=np.int64), fixed)
+
+
+def write_vtk(path, mesh, title="quadopt bench_peers"):
+    out = ["# vtk DataFile Version 3.0", title, "ASCII", "DATASET UNSTRUCTURED_GRID", f"POINTS {len(mesh.points)} double"]
+    out += [f"{x!r} {y!r} {z!r}" for x, y, z in mesh.points.tolist()]
+    out.append(f"CELLS {len(mesh.quads)} {5 * len(mesh.quads)}")
+    out += ["4 %d %d %d %d" % tuple(q) for q in mesh.quads.tolist()]
+    out.append(f"CELL_TYPES {len(mesh.quads)}")
+    out += ["9"] * len(mesh.quads)
+    if mesh.fixed is not None:
+        out += [f"POINT_DATA {len(mesh.points)}", "SCALARS fixed int 1", "LOOKUP_TABLE default"]
+        out += ["1" if f else "0" for f in mesh.fixed.tolist()]
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+# --------------------------------------------------------------------------------------------
+# Topology
+# --------------------------------------------------------------------------------------------
+
+
+def boundary_edges(quads):
+    """Edges used by exactly one quad, as (a, b) in the quad's direction; raises on an edge used
+    by more than two quads."""
+    count = {}
+    for q in quads.tolist():
+        for k in range(4):
+            a, b = q[k], q[(k + 1) % 4]
+            key = (min(a, b), max(a, b))
+            c = count.get(key)
+            count[key] = (c[0] + 1, c[1]) if c else (1, (a, b))
+    out = []
+    for n, e in count.values():
+        if n > 2:
+            raise ValueError("non-manifold edge")
+        if n == 1:
+            out.append(e)
+    return out
+
+
+def boundary_loops(quads):
+    """Boundary loops as directed vertex lists; raises when a boundary vertex has other than one
+    outgoing boundary edge (a vertex where loops touch)."""
+    nxt = {}
+    for a, b in boundary_edges(quads):
+        if a in nxt:
+            raise ValueError(f"boundary vertex {a} lies on two loops")
+        nxt[a] = b
+    seen, loops = set(), []
+    for start in sorted(nxt):
+        if start in seen:
+            continue
+        lp, v = [], start
+        while v not in seen:
+            seen.add(v)
+            lp.append(v)
+            v = nxt.get(v)
+            if v is None:
+                raise ValueError("open boundary")
+        if v != start:
+            raise ValueError("boundary loops touch")
+        loops.append(lp)
+    return loops
+
+
+def plane_frame(points):
+    """Centre and orthonormal (e1, e2, normal) of the best-fit plane of the points."""
+    c = points.mean(axis=0)
+    _, _, vt = np.linalg.svd(points - c, full_matrices=False)
+    return c, vt[0], vt[1], vt[2]
+
+
+def loop_area(points2, lp):
+    p = points2[lp]
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def held_vertices(mesh):
+    """Boundary vertices and fixed vertices (what gmsh and DMO hold)."""
+    held = np.zeros(len(mesh.points), dtype=bool)
+    for a, b in boundary_edges(mesh.quads):
+        held[a] = held[b] = True
+    if mesh.fixed is not None:
+        held |= mesh.fixed
+    return held
+
+
+# --------------------------------------------------------------------------------------------
+# gmsh
+# --------------------------------------------------------------------------------------------
+
+
+def gmsh_start():
+    import gmsh
+
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    gmsh.option.setNumber("Mesh.Renumber", 0)
+    return gmsh
+
+
+def mesh_plate(gmsh, quads_wanted):
+    """Meshes the ten-hole plate in the current session (see the module docs); returns the
+    mesh size used."""
+    size = math.sqrt(QUADS_PER_INV_SIZE2 / quads_wanted)
+    occ = gmsh.model.occ
+    outer = occ.addRectangle(0, 0, 0, PLATE_W, PLATE_H)
+    occ.cut([(2, outer)], [(2, occ.addDisk(x, y, 0, r, r)) for x, y, r in PLATE_DISKS])
+    occ.synchronize()
+    for k, v in dict(MeshSizeMin=size, MeshSizeMax=size, MeshSizeFromCurvature=0, MeshSizeExtendFromBoundary=1,
+                     Algorithm=6, RecombineAll=1, RecombinationAlgorithm=3, Smoothing=0, RandomSeed=1).items():
+        gmsh.option.setNumber("Mesh." + k, v)
+    gmsh.model.mesh.generate(2)
+    return size
+
+
+def components(n, quads):
+    """Per vertex, the id of its connected component (vertices joined through quads)."""
+    parent = list(range(n))
+
+    def find(v):
+        while parent[v] != v:
+            parent[v] = parent[parent[v]]
+            v = parent[v]
+        return v
+
+    for q in quads.tolist():
+        for k in range(1, 4):
+            ra, rb = find(q[0]), find(q[k])
+            if ra != rb:
+                parent[ra] = rb
+    return np.array([find(v) for v in range(n)], dtype=np.int64)
+
+
+def import_mesh(gmsh, mesh):
+    """Rebuilds `mesh` in the current (empty) session on plane surfaces of the built-in kernel,
+    one per connected component (see the module docs). Node tags are vertex index + 1."""
+    geo = gmsh.model.geo
+    m = gmsh.model.mesh
+    quads = mesh.quads
+    loops = boundary_loops(quads)
+    used = np.unique(quads)
+    c, e1, e2, _ = plane_frame(mesh.points[used])
+    p2 = np.stack([(mesh.points - c) @ e1, (mesh.points - c) @ e2], axis=1)
+    comp = components(len(mesh.points), quads)
+    bnd_point = {}
+    for lp in loops:
+        for v in lp:
+            bnd_point[v] = geo.addPoint(*mesh.points[v].tolist())
+    line_nodes = []  # (line tag, a, b)
+    surf_of = {}  # component id -> surface tag
+    for cid in sorted({int(comp[v]) for v in used}):
+        mine = [lp for lp in loops if comp[lp[0]] == cid]
+        if not mine:
+            raise ValueError("a component without boundary")
+        mine.sort(key=lambda lp: -abs(loop_area(p2, lp)))  # the outer loop first
+        curve_loops = []
+        for lp in mine:
+            lines = []
+            for k in range(len(lp)):
+                a, b = lp[k], lp[(k + 1) % len(lp)]
+                t = geo.addLine(bnd_point[a], bnd_point[b])
+                lines.append(t)
+                line_nodes.append((t, a, b))
+            curve_loops.append(geo.addCurveLoop(lines))
+        surf_of[cid] = geo.addPlaneSurface(curve_loops)
+    bset = set(bnd_point)
+    fixed_inner = []
+    if mesh.fixed is not None:
+        fixed_inner = [int(v) for v in used if mesh.fixed[v] and int(v) not in bset]
+    fixed_point = {v: geo.addPoint(*mesh.points[v].tolist()) for v in fixed_inner}
+    geo.synchronize()
+    for v, t in list(bnd_point.items()) + list(fixed_point.items()):
+        m.addNodes(0, t, [v + 1], mesh.points[v].tolist())
+    next_elem = 1
+    for t, a, b in line_nodes:
+        m.addElementsByType(t, 1, [next_elem], [a + 1, b + 1])
+        next_elem += 1
+    quad_comp = comp[quads[:, 0]]
+    for cid, surf in surf_of.items():
+        inner = [int(v) for v in used if comp[v] == cid and int(v) not in bset and int(v) not in fixed_point]
+        if inner:
+            xyz = mesh.points[inner].reshape(-1)
+            par = gmsh.model.getParametrization(2, surf, xyz.tolist())
+            m.addNodes(2, surf, [v + 1 for v in inner], xyz.tolist(), list(par))
+        # Quads in the surface's orientation.
+        qs = quads[quad_comp == cid]
+        probe = mesh.points[qs[0]].mean(axis=0)
+        sn = np.array(gmsh.model.getNormal(surf, list(gmsh.model.getParametrization(2, surf, probe.tolist()))))
+        p = mesh.points[qs]
+        mesh_normal = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]).sum(axis=0)
+        if float(mesh_normal @ sn) < 0:
+            qs = qs[:, ::-1]
+        m.addElementsByType(surf, 3, list(range(next_elem, next_elem + len(qs))), (qs.reshape(-1) + 1).tolist())
+        next_elem += len(qs)
+    return held_vertices(mesh)
+
+
+def gmsh_session_nodes(gmsh):
+    """Surface nodes (the movable ones) with coordinates and parametric coordinates."""
+    out = []
+    for dim, tag in gmsh.model.getEntities(2):
+        t, x, u = gmsh.model.mesh.getNodes(dim, tag, includeBoundary=False, returnParametricCoord=True)
+        out.append((t.astype(np.int64), np.array(x), np.array(u)))
+    return out
+
+
+def gmsh_coords(gmsh, tag_index, n):
+    """All node coordinates as an (n x 3) array indexed by vertex (tag_index maps tag -> vertex)."""
+    tags, xyz, _ = gmsh.model.mesh.getNodes()
+    out = np.full((n, 3), np.nan)
+    out[tag_index[tags.astype(np.int64)]] = np.array(xyz).reshape(-1, 3)
+    return out
+
+
+def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
+    """Runs the three gmsh optimizers. mesh_source is ("plate", quads_wanted) or ("file", Mesh).
+    Returns (input Mesh, input path or None, {method: result dict}), writing the outputs."""
+    gmsh = gmsh_start()
+    results = {}
+    try:
+        gmsh.model.add(label)
+        if mesh_source[0] == "plate":
+            size = mesh_plate(gmsh, mesh_source[1])
+            types, _, nodes = gmsh.model.mesh.getElements(2)
+            if list(types) != [3]:
+                raise RuntimeError(f"gmsh left element types {list(types)}, not all quads")
+            tags, xyz, _ = gmsh.model.mesh.getNodes()
+            tags = tags.astype(np.int64)
+            quad_tags = np.array(nodes[0], dtype=np.int64).reshape(-1, 4)
+            used = np.unique(quad_tags)  # the file holds the nodes of quads, in gmsh's tag order
+            n = len(used)
+            pos = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+            pos[tags] = np.arange(len(tags))
+            # tag -> vertex; tags of nodes used by no quad map to the extra row n.
+            tag_index_for_coords = np.full(int(tags.max()) + 1, n, dtype=np.int64)
+            tag_index_for_coords[used] = np.arange(n)
+            n_coords = n + 1
+            points = np.array(xyz).reshape(-1, 3)[pos[used]]
+            quads = tag_index_for_coords[quad_tags]
+            p = points[quads]
+            if np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])[:, 2].sum() < 0:
+                quads = quads[:, ::-1].copy()  # counter-clockwise in the file
+            mesh = Mesh(points, quads, None)
+            held = held_vertices(mesh)
+            in_path = os.path.join(out_dir, f"{label}.vtk")
+            write_vtk(in_path, mesh, f"ten-hole plate, gmsh mesh size {size!r} (tools/bench_peers.py)")
+            back = read_vtk(in_path)  # what quadopt and DMO get: the same nodes, bit for bit
+            if not (np.array_equal(back.points, mesh.points) and np.array_equal(back.quads, mesh.quads)):
+                raise RuntimeError("the written plate differs from gmsh's mesh")
+        else:
+            mesh = mesh_source[1]
+            held = import_mesh(gmsh, mesh)
+            in_path = None
+            n = len(mesh.points)
+            tag_index_for_coords = np.arange(-1, n, dtype=np.int64)  # tag t -> vertex t - 1
+            tag_index_for_coords[0] = n
+            n_coords = n + 1
+        used = np.unique(mesh.quads)
+        start = gmsh_session_nodes(gmsh)
+
+        def coords():
+            return gmsh_coords(gmsh, tag_index_for_coords, n_coords)[:n]
+
+        def reset():
+            for t, x, u in start:
+                for k in range(len(t)):
+                    gmsh.model.mesh.setNode(int(t[k]), x[3 * k : 3 * k + 3].tolist(), u[2 * k : 2 * k + 2].tolist())
+
+        elem_before = [x.copy() for x in gmsh.model.mesh.getElements(2)[2]]
+        for method in GMSH_METHODS:
+            if method == "UntangleMeshGeometry" and len(mesh.quads) > untangle_max_quads:
+                note(f"{label}: gmsh {method} skipped ({len(mesh.quads)} quads > --untangle-max-quads {untangle_max_quads})")
+                continue
+            times, cpu, first = [], [], None
+            for r in range(repeat):
+                if times and times[0] > LONG_RUN:
+                    break
+                reset()
+                c0 = coords()
+                if not np.array_equal(c0[used], mesh.points[used]):
+                    raise RuntimeError("gmsh's nodes differ from the input before a run")
+                t0, c0 = time.perf_counter(), time.process_time()
+                gmsh.model.mesh.optimize(method)
+                times.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+                c = coords()
+                if first is None:
+                    first = c
+                elif not np.array_equal(first[used], c[used]):
+                    note(f"{label}: gmsh {method} gave different coordinates on repeat {r + 1}")
+            after = gmsh.model.mesh.getElements(2)[2]
+            if len(after) != len(elem_before) or not all(np.array_equal(x, y) for x, y in zip(after, elem_before)):
+                note(f"{label}: gmsh {method} changed the connectivity")
+            out = first.copy()
+            unused = np.setdiff1d(np.arange(n), used)
+            out[unused] = mesh.points[unused]
+            out_path = os.path.join(out_dir, f"{label}.gmsh-{method}.vtk")
+            write_vtk(out_path, Mesh(out, mesh.quads, mesh.fixed))
+            results[method] = dict(seconds=statistics.median(times), times=times, cpu_seconds=cpu, cpu=statistics.median(cpu), output=out_path,
+                                   held_moved=int(np.count_nonzero((out[held] != mesh.points[held]).any(axis=1))))
+        reset()
+    finally:
+        gmsh.finalize()
+    return mesh, in_path, results
+
+
+# --------------------------------------------------------------------------------------------
+# quadopt and DMO
+# --------------------------------------------------------------------------------------------
+
+
+def quality(quadopt, path):
+    r = subprocess.run([quadopt, "quality", "--json", path], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(r.stderr.strip() or r.stdout.strip())
+    j = json.loads(r.stdout)
+    return dict(min=j["min"], avg=j["avg"], inverted=j["inverted"], quads=j["quads"])
+
+
+class Evaluator:
+    """The scaled Jacobian of every output, measured against the INPUT's orientation: quads
+    made consistent across shared edges as quadopt does, then each connected component turned
+    so that its total signed area in the input is positive; points projected onto the input's
+    plane (x, y when z is constant). Per quad: the minimum over its corners of
+    cross(next - p, prev - p) / (|next - p| |prev - p|), 0 for an edge shorter than 10 eps
+    times the quad's bounding-box diagonal, a quad whose last two corners coincide measured as
+    that triangle (quadopt's and Verdict's rules). A tool that flips a whole component thus
+    shows inverted quads (quadopt quality, which orients each file by itself, would not)."""
+
+    def __init__(self, mesh):
+        used = np.unique(mesh.quads)
+        z = mesh.points[used, 2]
+        if np.ptp(z) == 0:
+            self.frame = None
+        else:
+            c, e1, e2, _ = plane_frame(mesh.points[used])
+            self.frame = (c, e1, e2)
+        quads = self._consistent(mesh.quads)
+        p = self._project(mesh.points)
+        comp = components(len(mesh.points), quads)[quads[:, 0]]
+        area = self._areas(p, quads)
+        for cid in np.unique(comp):
+            sel = comp == cid
+            if area[sel].sum() < 0:
+                quads[sel] = quads[sel][:, ::-1]
+        self.quads = quads
+
+    @staticmethod
+    def _consistent(quads):
+        """Reverses quads so that every interior edge is run in opposite directions by its two
+        quads (the minority of each component is reversed); raises if not orientable."""
+        quads = quads.copy()
+        e = np.stack([quads, np.roll(quads, -1, axis=1)], axis=2).reshape(-1, 2)
+        lo, hi = e.min(axis=1), e.max(axis=1)
+        key = lo * (int(quads.max()) + 1) + hi
+        order = np.argsort(key, kind="stable")
+        k = key[order]
+        dup = np.nonzero(k[1:] == k[:-1])[0]
+        a, b = order[dup], order[dup + 1]
+        same = e[a, 0] == e[b, 0]
+        if not same.any():
+            return quads
+        adj = {}
+        for qa, qb, sm in zip((a // 4).tolist(), (b // 4).tolist(), same.tolist()):
+            adj.setdefault(qa, []).append((qb, sm))
+            adj.setdefault(qb, []).append((qa, sm))
+        flip = {}
+        for seed in range(len(quads)):
+            if seed in flip:
+                continue
+            flip[seed] = False
+            comp, head = [seed], 0
+            while head < len(comp):
+                q = comp[head]
+                head += 1
+                for nb, sm in adj.get(q, ()):
+                    want = flip[q] ^ sm
+                    if nb not in flip:
+                        flip[nb] = want
+                        comp.append(nb)
+                    elif flip[nb] != want:
+                        raise ValueError("mesh is not orientable")
+            flipped = [q for q in comp if flip[q]]
+            minority = flipped if 2 * len(flipped) <= len(comp) else [q for q in comp if not flip[q]]
+            for q in minority:
+                quads[q] = quads[q][::-1]
+        return quads
+
+    def _project(self, points):
+        if self.frame is None:
+            return points[:, :2]
+        c, e1, e2 = self.frame
+        return np.stack([(points - c) @ e1, (points - c) @ e2], axis=1)
+
+    @staticmethod
+    def _areas(p, quads):
+        x, y = p[quads][..., 0], p[quads][..., 1]
+        return 0.5 * (x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y).sum(axis=1)
+
+    def scaled_jacobians(self, points):
+        p = self._project(points)[self.quads]  # m x 4 x 2
+        e = np.roll(p, -1, axis=1) - p  # edge i: corner i -> i + 1
+        ln = np.linalg.norm(e, axis=2)
+        ej, lj = np.roll(e, 1, axis=1), np.roll(ln, 1, axis=1)  # edge into corner i
+        with np.errstate(divide="ignore", invalid="ignore"):
+            c = (ej[..., 0] * e[..., 1] - ej[..., 1] * e[..., 0]) / (ln * lj)
+        sj = c.min(axis=1)
+        diag = np.linalg.norm(p.max(axis=1) - p.min(axis=1), axis=1)
+        short = (ln == 0) | (ln < 10 * np.finfo(float).eps * diag[:, None])
+        sj[short.any(axis=1)] = 0.0
+        tri = np.nonzero((p[:, 3] == p[:, 2]).all(axis=1))[0]
+        for t in tri.tolist():
+            a, b, cc = p[t, 0], p[t, 1], p[t, 2]
+            ls = sorted([np.linalg.norm(b - a), np.linalg.norm(cc - b), np.linalg.norm(a - cc)])
+            cr = (b - a)[0] * (cc - a)[1] - (b - a)[1] * (cc - a)[0]
+            den = ls[2] * ls[1]
+            sj[t] = cr / den * 2 / math.sqrt(3) if den > 1e-30 else 0.0
+        return sj
+
+    def stats(self, points):
+        sj = self.scaled_jacobians(points)
+        return dict(min=float(sj.min()), avg=float(sj.mean()), inverted=int(np.count_nonzero(sj <= 0)), quads=len(sj))
+
+
+def child_cpu():
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
+
+
+def run_quadopt(quadopt, in_path, out_path, repeat, extra=()):
+    """quadopt's own timing of the run (no IO); the process's CPU seconds (with IO) go to the
+    JSON only, as a check on a loaded machine."""
+    times, cpu = [], []
+    for _ in range(repeat):
+        if times and times[0] > LONG_RUN:
+            break
+        c0 = child_cpu()
+        r = subprocess.run([quadopt, "optimize", in_path, "-o", out_path, "--json", *extra], capture_output=True, text=True)
+        cpu.append(child_cpu() - c0)
+        if r.returncode != 0:
+            raise RuntimeError(r.stderr.strip() or r.stdout.strip())
+        times.append(json.loads(r.stdout)["seconds"])
+    # CPU of the same read, set-up and write with a single sweep, to take IO out of the CPU time.
+    c0 = child_cpu()
+    subprocess.run([quadopt, "optimize", in_path, "-o", out_path + ".io.vtk", "--json", "--max-iter", "1",
+                    "--boundary", "fixed", "--no-untangle"], capture_output=True, text=True)
+    io = child_cpu() - c0
+    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
+                cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
+
+
+def build_dmo(dmo_dir, out_dir):
+    exe = os.path.join(out_dir, "dmo-build", "dmo_smooth")
+    src = [os.path.join(dmo_dir, "dmo_smooth.cpp"), os.path.join(dmo_dir, "build.sh")]
+    if os.path.exists(exe) and all(os.path.getmtime(exe) >= os.path.getmtime(s) for s in src):
+        return exe
+    r = subprocess.run(["bash", os.path.join(dmo_dir, "build.sh"), os.path.dirname(exe)], capture_output=True, text=True)
+    if r.returncode != 0 or not os.path.exists(exe):
+        raise RuntimeError(f"DMO build failed: {(r.stderr or r.stdout).strip()[-500:]}")
+    return exe
+
+
+def run_dmo(exe, in_path, out_path, repeat):
+    times, cpu = [], []
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    for _ in range(repeat):
+        c0 = child_cpu()
+        r = subprocess.run([exe, "--metric", "vsj", in_path, out_path], capture_output=True, text=True, env=env)
+        cpu.append(child_cpu() - c0)
+        try:
+            j = json.loads(r.stdout.strip().splitlines()[-1])
+        except (ValueError, IndexError):
+            raise RuntimeError(r.stderr.strip() or "no report")
+        if r.returncode != 0 or not j.get("ok"):
+            raise RuntimeError(j.get("error") or r.stderr.strip())
+        if j.get("threads") != 1:
+            raise RuntimeError(f"DMO ran with {j.get('threads')} threads")
+        times.append(j["seconds"])
+    c0 = child_cpu()
+    subprocess.run([exe, "--metric", "vsj", "--iters", "0", in_path, out_path + ".io.vtk"], capture_output=True, text=True, env=env)
+    io = child_cpu() - c0
+    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
+                cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
+
+
+# --------------------------------------------------------------------------------------------
+# Driver
+# --------------------------------------------------------------------------------------------
+
+
+def parse_size(s):
+    s = s.strip().lower()
+    mult = 1
+    if s.endswith("k"):
+        mult, s = 1000, s[:-1]
+    elif s.endswith("m"):
+        mult, s = 1000000, s[:-1]
+    return int(float(s) * mult)
+
+
+def size_label(n):
+    return f"{n // 1000000}m" if n % 1000000 == 0 else f"{n // 1000}k" if n % 1000 == 0 else str(n)
+
+
+def check_output(mesh, path, must_hold):
+    """Number of quads differing from the input's and of vertices in must_hold that moved."""
+    out = read_vtk(path)
+    if out.points.shape != mesh.points.shape:
+        return dict(error="output has another vertex count")
+    bad_quads = int(np.count_nonzero((out.quads != mesh.quads).any(axis=1))) if out.quads.shape == mesh.quads.shape else -1
+    moved = int(np.count_nonzero((out.points[must_hold] != mesh.points[must_hold]).any(axis=1)))
+    return dict(bad_quads=bad_quads, held_moved=moved)
+
+
+def cross_check(label, name, mine, theirs):
+    """Notes where quadopt's own evaluator disagrees with the script's."""
+    if not (abs(mine["min"] - theirs["min"]) <= 1e-9 and abs(mine["avg"] - theirs["avg"]) <= 1e-9
+            and mine["inverted"] == theirs["inverted"]):
+        note(f"{label}: {name}: quadopt quality gives min/avg/inverted {theirs['min']:.6f}/{theirs['avg']:.6f}/"
+             f"{theirs['inverted']}, measured against the input's orientation {mine['min']:.6f}/{mine['avg']:.6f}/"
+             f"{mine['inverted']}")
+
+
+def bench_mesh(args, label, source, quadopt, dmo_exe):
+    """All tools on one mesh; returns a list of row dicts."""
+    out_dir = args.out_dir
+    stem = label.replace("/", "_")
+    rows = []
+    if source[0] == "file":
+        path = source[1]
+        try:
+            q_in = quality(quadopt, path)
+        except RuntimeError as e:
+            note(f"{label}: skipped, quadopt cannot read it ({str(e).splitlines()[0]})")
+            return []
+        try:
+            mesh = read_vtk(path)
+        except ValueError as e:
+            note(f"{label}: skipped, this script cannot read it ({e})")
+            return []
+        nq = len(mesh.quads)
+    else:
+        nq = source[1]
+        mesh, path, q_in = None, None, None
+    repeat = args.repeat if args.repeat else (1 if nq >= 500000 else 3)
+
+    # gmsh first: for a plate it also makes the mesh everyone else gets.
+    gmsh_res = {}
+    if not args.no_gmsh:
+        try:
+            t0 = time.perf_counter()
+            gsrc = ("plate", source[1]) if source[0] == "plate" else ("file", mesh)
+            m, p, gmsh_res = run_gmsh(gsrc, repeat, out_dir, stem, args.untangle_max_quads)
+            if source[0] == "plate":
+                mesh, path = m, p
+            note(f"{label}: gmsh done in {time.perf_counter() - t0:.1f} s")
+        except Exception as e:  # gmsh raises plain Exception; a mesh it cannot take is a note
+            if source[0] == "plate":
+                raise
+            note(f"{label}: gmsh skipped ({e})")
+    if mesh is None:
+        raise RuntimeError("a plate needs gmsh to be meshed")
+    if q_in is None:
+        q_in = quality(quadopt, path)
+    nq = len(mesh.quads)
+    try:
+        evaluator = Evaluator(mesh)
+    except ValueError as e:
+        note(f"{label}: skipped ({e})")
+        return []
+    q_quadopt = q_in
+    q_in = evaluator.stats(mesh.points)
+    cross_check(label, "input", q_in, q_quadopt)
+    held = held_vertices(mesh)
+    fixed = mesh.fixed if mesh.fixed is not None else np.zeros(len(mesh.points), dtype=bool)
+    rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted")}))
+
+    runs = []  # (tool name, result dict, vertices that must not move)
+    for method in GMSH_METHODS:
+        if method in gmsh_res:
+            runs.append((f"gmsh {method}", gmsh_res[method], held))
+    try:
+        runs.append(("quadopt", run_quadopt(quadopt, path, os.path.join(out_dir, f"{stem}.quadopt.vtk"), repeat), fixed))
+    except RuntimeError as e:
+        note(f"{label}: quadopt failed ({e})")
+    if args.quadopt_fixed:
+        try:
+            r = run_quadopt(quadopt, path, os.path.join(out_dir, f"{stem}.quadopt-fixed.vtk"), repeat, ["--boundary", "fixed"])
+            runs.append(("quadopt --boundary fixed", r, held))
+        except RuntimeError as e:
+            note(f"{label}: quadopt --boundary fixed failed ({e})")
+    if dmo_exe and nq <= args.dmo_max_quads:
+        try:
+            runs.append(("DMO", run_dmo(dmo_exe, path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
+        except RuntimeError as e:
+            note(f"{label}: DMO skipped ({e})")
+    elif dmo_exe:
+        note(f"{label}: DMO skipped ({nq} quads > --dmo-max-quads {args.dmo_max_quads})")
+
+    q_run = next((r for name, r, _ in runs if name == "quadopt"), None)
+    for name, r, must_hold in runs:
+        chk = check_output(mesh, r["output"], must_hold)
+        flags = []
+        if chk.get("error"):
+            flags.append(chk["error"])
+        else:
+            if chk["bad_quads"]:
+                flags.append(f"{chk['bad_quads']} quads changed")
+            if chk["held_moved"]:
+                flags.append(f"{chk['held_moved']} held vertices moved")
+        for f in flags:
+            note(f"{label}: {name}: {f}")
+        q = evaluator.stats(read_vtk(r["output"]).points)
+        cross_check(label, name, q, quality(quadopt, r["output"]))
+        peer = (name.startswith("gmsh") or name == "DMO") and q_run is not None
+        ratio = q_run["seconds"] / r["seconds"] if peer and r["seconds"] > 0 else None
+        cpu_ratio = q_run["cpu"] / r["cpu"] if peer and min(r["cpu"], q_run["cpu"]) >= CPU_FLOOR else None
+        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
+                         process_cpu_seconds=r.get("process_cpu_seconds"),
+                         min=q["min"], avg=q["avg"],
+                         inverted=q["inverted"], cpu=r["cpu"], quadopt_ratio=ratio, quadopt_cpu_ratio=cpu_ratio, flags=flags))
+    return rows
+
+
+# CPU times below this (seconds) are within the noise of process accounting: no CPU ratio.
+CPU_FLOOR = 1e-3
+
+
+def fmt_seconds(x):
+    return "–" if x is None else (f"{x:.4f}" if x < 1 else f"{x:.2f}")
+
+
+def cpu_ratios(rows):
+    """quadopt's CPU seconds over each peer's, per row (None where either is below CPU_FLOOR)."""
+    q = {r["mesh"]: r.get("cpu") for r in rows if r["tool"] == "quadopt"}
+    out = []
+    for r in rows:
+        qc, tc = q.get(r["mesh"]), r.get("cpu")
+        peer = r["tool"].startswith("gmsh") or r["tool"] == "DMO"
+        ok = peer and qc is not None and tc is not None and qc >= CPU_FLOOR and tc >= CPU_FLOOR
+        out.append(qc / tc if ok else None)
+    return out
+
+
+def fmt_rows(rows):
+    out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | quadopt / tool (s) | quadopt / tool (CPU) |",
+           "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for r, cr in zip(rows, cpu_ratios(rows)):
+        ratio = "" if r.get("quadopt_ratio") is None else f"{r['quadopt_ratio']:.3g}"
+        cratio = "" if cr is None else f"{cr:.3g}"
+        tool = r["tool"] + (" (!)" if r.get("flags") else "")
+        out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
+                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {ratio} | {cratio} |")
+    return "\n".join(out)
+
+
+def fmt_wide(rows):
+    """One row per mesh: per tool "min / avg (inverted) CPU s" and quadopt's CPU ratio to each peer."""
+    tools = []
+    for r in rows:
+        if r["tool"] not in tools:
+            tools.append(r["tool"])
+    by_mesh = {}
+    for r, cr in zip(rows, cpu_ratios(rows)):
+        by_mesh.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = dict(r, cpu_ratio=cr)
+    head = "| mesh | quads | " + " | ".join(tools) + " |"
+    out = [head, "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
+    for (mesh, nq), t in by_mesh.items():
+        cells = []
+        for name in tools:
+            r = t.get(name)
+            if r is None:
+                cells.append("–")
+                continue
+            c = f"{r['min']:.3f} / {r['avg']:.3f}"
+            if r["inverted"]:
+                c += f" ({r['inverted']} inv.)"
+            if r.get("cpu") is not None:
+                c += f", {fmt_seconds(r['cpu'])} s"
+            if r["cpu_ratio"] is not None:
+                c += f" (q/t {r['cpu_ratio']:.2g})"
+            if r.get("flags"):
+                c += " (!)"
+            cells.append(c)
+        out.append(f"| {mesh} | {nq} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(__doc__.splitlines()[1:]))
+    ap.add_argument("--sizes", default="10k,200k,1m",
+                    help="synthetic plate sizes in quads, comma separated (k, m suffixes), or 'none' (default 10k,200k,1m)")
+    ap.add_argument("--skip-1m", action="store_true", help="leave out synthetic sizes of 1M quads and more")
+    ap.add_argument("--no-data", action="store_true", help="leave out the meshes in data/")
+    ap.add_argument("--no-mesquite", action="store_true", help="leave out the Mesquite meshes")
+    ap.add_argument("--only", help="only meshes whose label contains this string")
+    ap.add_argument("--mesquite", default=os.path.join(ROOT, "..", "shared", "meshes", "mesquite"),
+                    help="Mesquite mesh directory (default ../shared/meshes/mesquite from the repository)")
+    ap.add_argument("--out-dir", default=os.path.join(ROOT, "target", "bench-peers"),
+                    help="where meshes and outputs go (default target/bench-peers, ignored by git)")
+    ap.add_argument("--quadopt", default=os.path.join(ROOT, "target", "release", "quadopt"),
+                    help="quadopt binary (default target/release/quadopt: run cargo build --release)")
+    ap.add_argument("--quadopt-fixed", action="store_true", help="also run quadopt --boundary fixed (holds what the peers hold)")
+    ap.add_argument("--dmo", default=os.environ.get("QUADOPT_DMO_DIR", os.path.join(ROOT, "..", "shared", "peers", "dmo")),
+                    help="DMO peer directory with build.sh (default $QUADOPT_DMO_DIR or ../shared/peers/dmo)")
+    ap.add_argument("--no-dmo", action="store_true", help="do not run DMO")
+    ap.add_argument("--dmo-max-quads", type=int, default=300000, help="skip DMO above this many quads (default 300000)")
+    ap.add_argument("--dmo-repeat", type=int, default=1, help="DMO runs per mesh (default 1)")
+    ap.add_argument("--untangle-max-quads", type=int, default=50000,
+                    help="skip gmsh UntangleMeshGeometry above this many quads (default 50000: it takes minutes)")
+    ap.add_argument("--no-gmsh", action="store_true", help="do not run gmsh's optimizers on file meshes")
+    ap.add_argument("--repeat", type=int, help="runs per tool and mesh, median reported (default 3; 1 from 500k quads)")
+    ap.add_argument("--wide", action="store_true",
+                    help="one row per mesh (min / avg, CPU seconds, quadopt's CPU ratio per tool) instead of one per tool")
+    ap.add_argument("--json", metavar="PATH", help="also write all rows (with every run's time) as JSON to PATH ('-': stdout)")
+    ap.add_argument("--from-json", metavar="PATH", help="print the table of an earlier --json file instead of running")
+    args = ap.parse_args()
+    if args.from_json:
+        with open(args.from_json) as f:
+            rows = json.load(f)["rows"]
+        print(fmt_wide(rows) if args.wide else fmt_rows(rows))
+        return
+
+    import gmsh
+
+    if gmsh.__version__ != GMSH_VERSION:
+        note(f"gmsh {gmsh.__version__} found, this comparison was made with {GMSH_VERSION}")
+    quadopt = os.path.abspath(args.quadopt)
+    if not os.access(quadopt, os.X_OK):
+        sys.exit(f"error: no quadopt binary at {quadopt} (cargo build --release, or --quadopt BIN)")
+    os.makedirs(args.out_dir, exist_ok=True)
+    dmo_exe = None
+    if not args.no_dmo:
+        if os.path.exists(os.path.join(args.dmo, "build.sh")):
+            try:
+                dmo_exe = build_dmo(os.path.abspath(args.dmo), os.path.abspath(args.out_dir))
+            except RuntimeError as e:
+                note(f"no DMO row: {e}")
+        else:
+            note(f"no DMO row: no DMO peer at {args.dmo} (--dmo DIR or QUADOPT_DMO_DIR)")
+
+    meshes = []
+    if args.sizes.strip().lower() != "none":
+        for s in args.sizes.split(","):
+            n = parse_size(s)
+            if args.skip_1m and n >= 1000000:
+                continue
+            meshes.append((f"plate10_{size_label(n)}", ("plate", n)))
+    if not args.no_data:
+        d = os.path.join(ROOT, "data")
+        meshes += [(f[:-4], ("file", os.path.join(d, f))) for f in sorted(os.listdir(d)) if f.endswith(".vtk")]
+    if not args.no_mesquite:
+        if os.path.isdir(args.mesquite):
+            for sub in sorted(os.listdir(args.mesquite)):
+                d = os.path.join(args.mesquite, sub)
+                if os.path.isdir(d):
+                    meshes += [(f"mesquite/{sub}/{f[:-4]}", ("file", os.path.join(d, f))) for f in sorted(os.listdir(d)) if f.endswith(".vtk")]
+        else:
+            note(f"no Mesquite meshes at {args.mesquite}")
+    if args.only:
+        meshes = [m for m in meshes if args.only in m[0]]
+
+    rows = []
+    for label, source in meshes:
+        rows += bench_mesh(args, label, source, quadopt, dmo_exe)
+    table = fmt_wide(rows) if args.wide else fmt_rows(rows)
+    if args.json:
+        text = json.dumps(dict(gmsh=gmsh.__version__, rows=rows), indent=1)
+        if args.json == "-":
+            print(text)
+        else:
+            with open(args.json, "w") as f:
+                f.write(text + "\n")
+    if args.json != "-":
+        print(table)
+
+
+if __name__ == "__main__":
+    main()

@@ -763,10 +763,12 @@ fn run_data_dir() -> Result<(), Fail> {
     }
     files.sort();
     let options = Options::default();
+    // Relative to the working directory when inside it: what a user would type.
+    let shown = std::env::current_dir().ok().and_then(|cwd| dir.strip_prefix(cwd).ok().map(Path::to_path_buf));
     outln!(
         "quadopt: {} meshes in {}, method {}, boundary {}",
         files.len(),
-        dir.display(),
+        shown.as_deref().unwrap_or(&dir).display(),
         options.method.name(),
         options.boundary.name()
     );

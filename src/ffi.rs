@@ -27,6 +27,9 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::mem::size_of;
 use std::panic::{self, AssertUnwindSafe};
 
+mod pool;
+mod quiet;
+
 /// Major version of the library (the `x` of `x.y.z`).
 pub const QUADOPT_VERSION_MAJOR: u32 = 0;
 /// Minor version of the library (the `y` of `x.y.z`).
@@ -312,7 +315,11 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 /// Runs the body of entry point `name`: catches panics, records the message of a failure in
 /// the thread-local last error and turns the outcome into a status.
 fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptStatus {
-    match panic::catch_unwind(AssertUnwindSafe(body)) {
+    quiet::install_hook();
+    let inside = quiet::enter(true);
+    let outcome = panic::catch_unwind(AssertUnwindSafe(body));
+    drop(inside);
+    match outcome {
         Ok(Ok(())) => QuadoptStatus::Ok,
         Ok(Err(e)) => {
             set_last_error(format!("{name}: {}", e.message));
@@ -330,6 +337,8 @@ fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptS
 
 /// Panic boundary for the functions without a status: a panic returns `fallback`.
 fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
+    quiet::install_hook();
+    let _inside = quiet::enter(true);
     panic::catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
 }
 
@@ -674,8 +683,9 @@ fn default_options() -> QuadoptOptions {
     }
 }
 
-/// Runs the optimizer on an owned mesh, calling the C progress callback, and returns the new
-/// positions and the report. Cancellation is an error here, so nothing is written.
+/// Runs the optimizer on an owned mesh on the library's worker threads, calling the C progress
+/// callback on the calling thread, and returns the new positions and the report. Cancellation
+/// is an error here, so nothing is written.
 fn run(
     optimizer: &Optimizer,
     mut mesh: QuadMesh,
@@ -684,22 +694,32 @@ fn run(
     let options = convert_options(o)?;
     let (callback, user_data) = (o.progress, o.progress_user_data);
     let mut last = None;
-    let mut forward = |p: &Progress| -> bool {
+    let on_progress = |cp: QuadoptProgress| -> bool {
         let Some(f) = callback else { return true };
-        let cp = QuadoptProgress {
-            iteration: p.iteration,
-            max_iterations: p.max_iterations,
-            pass: p.pass,
-            passes: p.passes,
-            energy: p.energy,
-            energy_change: p.energy_change,
-        };
         last = Some(cp);
+        // A panic of the caller's own Rust code (if any) is not ours to silence.
+        let _outside = quiet::enter(false);
         // SAFETY: the caller guarantees that a non-NULL `progress` is a valid function of this
         // signature; `cp` lives for the duration of the call.
         unsafe { f(&cp, user_data) }
     };
-    let report = optimizer.run(&mut mesh, &options, Some(&mut forward))?;
+    let has_callback = callback.is_some();
+    let job = |ask: &mut dyn FnMut(QuadoptProgress) -> bool| {
+        let mut forward = |p: &Progress| {
+            !has_callback
+                || ask(QuadoptProgress {
+                    iteration: p.iteration,
+                    max_iterations: p.max_iterations,
+                    pass: p.pass,
+                    passes: p.passes,
+                    energy: p.energy,
+                    energy_change: p.energy_change,
+                })
+        };
+        optimizer.run(&mut mesh, &options, Some(&mut forward)).map(|report| (mesh, report))
+    };
+    let (mesh, report) = pool::run_with_progress(job, on_progress)
+        .map_err(|pool::NoThreads(why)| FfiError::new(QuadoptStatus::OutOfMemory, why))??;
     if report.cancelled {
         let at = last.map_or(String::new(), |p| {
             format!(" at pass {} of {}, iteration {}", p.pass, p.passes, p.iteration)
@@ -1619,6 +1639,7 @@ mod tests {
             (Error::VertexCountMismatch { expected: 1, got: 2 }, S::Mismatch),
             (Error::InvalidOption { name: "x", reason: String::new() }, S::InvalidOption),
             (Error::NotPlanar { vertex: 0, distance: 1.0, tolerance: 0.5 }, S::NotPlanar),
+            (Error::OutOfMemory { what: "points", bytes: 16 }, S::OutOfMemory),
         ];
         for (e, s) in cases {
             let f = FfiError::from(e.clone());
@@ -1632,17 +1653,18 @@ mod tests {
             // SAFETY: quadopt_status_string returns a static C string.
             unsafe { CStr::from_ptr(quadopt_status_string(s)) }.to_str().unwrap().to_owned()
         };
-        let known: Vec<String> = (0..=13).map(name).collect();
+        let known: Vec<String> = (0..=14).map(name).collect();
         assert_eq!(known[0], "ok");
         assert_eq!(known[11], "cancelled");
         let mut unique = known.clone();
         unique.sort();
         unique.dedup();
-        assert_eq!(unique.len(), 14, "status strings must be distinct");
-        for s in [-1, 14, i32::MIN, i32::MAX] {
+        assert_eq!(unique.len(), 15, "status strings must be distinct");
+        for s in [-1, 15, i32::MIN, i32::MAX] {
             assert_eq!(name(s), "unknown status");
         }
         assert_eq!(QuadoptStatus::NotPlanar as i32, 13);
+        assert_eq!((QuadoptStatus::OutOfMemory as i32, known[14].as_str()), (14, "out of memory"));
     }
 
     #[test]

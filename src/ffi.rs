@@ -1064,6 +1064,7 @@ pub unsafe extern "C" fn quadopt_version_numbers(major: *mut u32, minor: *mut u3
 mod tests {
     use super::*;
     use std::ptr::{null, null_mut};
+    use std::sync::atomic::Ordering;
 
     /// A 2x2 patch of unit squares (vertices 0..9, row by row) whose centre vertex 4 has been
     /// dragged to (1.6, 1.5); with a fixed boundary the optimum puts it back at (1, 1).
@@ -1623,6 +1624,146 @@ mod tests {
         assert_eq!(status, QuadoptStatus::Panic);
         assert_eq!(last_error(), "quadopt_test: internal error (panic: boom 42); please report this bug");
         assert_eq!(boundary_or(5, || panic!("static")), 5);
+    }
+
+    /// Runs this binary's test `name` again in a fresh process (with `QUADOPT_TEST_CHILD` set,
+    /// so the test runs its child half), with the given environment, and checks that exactly
+    /// that test ran and passed. Returns the child's stderr.
+    fn run_in_child(name: &str, env: &[(&str, &str)]) -> String {
+        let exe = std::env::current_exe().unwrap();
+        let out = std::process::Command::new(exe)
+            .args(["--exact", name, "--nocapture", "--test-threads=1"])
+            .env("QUADOPT_TEST_CHILD", name)
+            .env_remove("RUST_BACKTRACE")
+            .envs(env.iter().copied())
+            .output()
+            .unwrap();
+        let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success() && stdout.contains("1 passed"), "child {name}:\n{stdout}\n{stderr}");
+        stderr.into_owned()
+    }
+
+    fn is_child(name: &str) -> bool {
+        std::env::var("QUADOPT_TEST_CHILD").as_deref() == Ok(name)
+    }
+
+    /// Threads of this process.
+    fn thread_count() -> usize {
+        std::fs::read_dir("/proc/self/task").unwrap().count()
+    }
+
+    /// quadopt_optimize on the jittered patch with a fixed boundary; the status and the result.
+    fn optimize_patch(options: &QuadoptOptions) -> (QuadoptStatus, Vec<u64>) {
+        let (mut c, quads) = patch(2);
+        // SAFETY: live buffers of the stated lengths.
+        let s = unsafe { quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), options, null_mut()) };
+        (s, bits(&c))
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_pool_that_cannot_start_leaves_no_thread_and_later_calls_work() {
+        const NAME: &str = "ffi::tests::a_pool_that_cannot_start_leaves_no_thread_and_later_calls_work";
+        if !is_child(NAME) {
+            run_in_child(NAME, &[("RAYON_NUM_THREADS", "3")]);
+            return;
+        }
+        let o = fixed_boundary_options();
+        let (untouched, _) = patch(2);
+        let baseline = thread_count();
+        // No thread at all can start: a status, nothing written, nothing left running.
+        pool::THREAD_LIMIT.store(0, Ordering::SeqCst);
+        let (s, c) = optimize_patch(&o);
+        assert_eq!(s, QuadoptStatus::OutOfMemory);
+        assert!(last_error().contains("cannot start a worker thread"), "{}", last_error());
+        assert_eq!((c, thread_count()), (bits(&untouched), baseline));
+        // One thread can start, the pool of three cannot: the started one is joined and the
+        // call runs on a single worker, joined too.
+        pool::THREAD_LIMIT.store(1, Ordering::SeqCst);
+        let (s, single) = optimize_patch(&o);
+        assert_eq!((s, thread_count()), (QuadoptStatus::Ok, baseline), "{}", last_error());
+        // Threads available again: the next call builds the pool, with the same result.
+        pool::THREAD_LIMIT.store(usize::MAX, Ordering::SeqCst);
+        let (s, pooled) = optimize_patch(&o);
+        assert_eq!((s, thread_count()), (QuadoptStatus::Ok, baseline + 3));
+        assert_eq!(single, pooled, "the thread count changed the result");
+        assert!((f64::from_bits(pooled[8]) - 1.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_progress_callback_runs_on_the_calling_thread() {
+        unsafe extern "C" fn record(_: *const QuadoptProgress, user: *mut c_void) -> bool {
+            // SAFETY: user is the vector below, used by this thread only.
+            unsafe { &mut *user.cast::<Vec<std::thread::ThreadId>>() }.push(std::thread::current().id());
+            true
+        }
+        let mut seen: Vec<std::thread::ThreadId> = Vec::new();
+        let o = QuadoptOptions {
+            progress: Some(record),
+            progress_user_data: (&raw mut seen).cast(),
+            ..fixed_boundary_options()
+        };
+        assert_eq!(optimize_patch(&o).0, QuadoptStatus::Ok);
+        assert!(!seen.is_empty());
+        assert!(seen.iter().all(|&t| t == std::thread::current().id()));
+    }
+
+    #[test]
+    fn nested_calls_from_the_callback_finish_on_a_single_worker() {
+        const NAME: &str = "ffi::tests::nested_calls_from_the_callback_finish_on_a_single_worker";
+        if !is_child(NAME) {
+            run_in_child(NAME, &[("RAYON_NUM_THREADS", "1")]);
+            return;
+        }
+        /// Each callback of the outer three levels optimizes the patch again, one level deeper.
+        unsafe extern "C" fn recurse(_: *const QuadoptProgress, user: *mut c_void) -> bool {
+            // SAFETY: user is the depth counter below, used by this thread only.
+            let depth = unsafe { &mut *user.cast::<usize>() };
+            if *depth < 3 {
+                *depth += 1;
+                let o = QuadoptOptions { max_iterations: 2, ..nested_options(user) };
+                assert_eq!(optimize_patch(&o).0, QuadoptStatus::Ok);
+                *depth -= 1;
+            }
+            true
+        }
+        fn nested_options(user: *mut c_void) -> QuadoptOptions {
+            QuadoptOptions { progress: Some(recurse), progress_user_data: user, ..fixed_boundary_options() }
+        }
+        let mut depth = 0usize;
+        let o = QuadoptOptions { max_iterations: 3, ..nested_options((&raw mut depth).cast()) };
+        let (s, c) = optimize_patch(&o);
+        assert_eq!((s, depth), (QuadoptStatus::Ok, 0), "{}", last_error());
+        let (_, plain) = optimize_patch(&QuadoptOptions { max_iterations: 3, ..fixed_boundary_options() });
+        assert_eq!(c, plain);
+    }
+
+    #[test]
+    fn a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook() {
+        const NAME: &str =
+            "ffi::tests::a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook";
+        if !is_child(NAME) {
+            for backtrace in ["0", "1", "full"] {
+                let stderr = run_in_child(NAME, &[("RUST_BACKTRACE", backtrace)]);
+                // Only the panic outside the library reached the default hook.
+                assert!(stderr.contains("panicked") && stderr.contains("outside the library"), "{stderr}");
+                assert!(!stderr.contains("boom"), "RUST_BACKTRACE={backtrace}:\n{stderr}");
+            }
+            return;
+        }
+        // On the calling thread, in both kinds of boundary.
+        assert_eq!(boundary("quadopt_test", || panic!("boom 1")), QuadoptStatus::Panic);
+        assert_eq!(boundary_or(7, || panic!("boom 2")), 7);
+        // On a worker thread, resumed on the calling thread.
+        let status = boundary("quadopt_test", || {
+            let _ = pool::run_with_progress(|_| -> () { panic!("boom 3") }, |_: ()| true);
+            Ok(())
+        });
+        assert_eq!(status, QuadoptStatus::Panic);
+        assert!(last_error().contains("boom 3"), "{}", last_error());
+        // The pool survives a panicking job.
+        assert_eq!(optimize_patch(&fixed_boundary_options()).0, QuadoptStatus::Ok);
+        assert!(panic::catch_unwind(|| panic!("outside the library")).is_err());
     }
 
     #[test]

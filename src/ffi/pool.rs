@@ -31,10 +31,10 @@ struct ProcessPool {
 /// reference handed out stays valid, and a forked child must not tear down its parent's.
 static SHARED: AtomicPtr<ProcessPool> = AtomicPtr::new(std::ptr::null_mut());
 
-/// Test hook: how many more worker threads may start (failing the rest as a thread limit
-/// would), without touching process limits.
+/// Test hook: how many threads one pool may start (the next one fails as under a thread
+/// limit), without touching process limits.
 #[cfg(test)]
-pub(super) static SPAWN_BUDGET: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
+pub(super) static THREAD_LIMIT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
 
 /// The threads could not be started; the message says why.
 #[derive(Debug)]
@@ -149,7 +149,7 @@ fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), St
         .num_threads(threads.unwrap_or(0))
         .thread_name(|i| format!("quadopt-{i}"))
         .spawn_handler(|thread| {
-            spawn_allowed()?;
+            spawn_allowed(thread.index())?;
             let mut b = std::thread::Builder::new();
             if let Some(name) = thread.name() {
                 b = b.name(name.to_owned());
@@ -180,14 +180,14 @@ fn run_worker(thread: ThreadBuilder) {
 }
 
 #[cfg(test)]
-fn spawn_allowed() -> std::io::Result<()> {
-    SPAWN_BUDGET
-        .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1))
-        .map(drop)
-        .map_err(|_| std::io::Error::new(std::io::ErrorKind::WouldBlock, "thread limit (test hook)"))
+fn spawn_allowed(index: usize) -> std::io::Result<()> {
+    if index < THREAD_LIMIT.load(Ordering::SeqCst) {
+        return Ok(());
+    }
+    Err(std::io::Error::new(std::io::ErrorKind::WouldBlock, "thread limit (test hook)"))
 }
 
 #[cfg(not(test))]
-fn spawn_allowed() -> std::io::Result<()> {
+fn spawn_allowed(_index: usize) -> std::io::Result<()> {
     Ok(())
 }

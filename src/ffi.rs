@@ -9,14 +9,21 @@
 //!   `checked_mul` and the `isize::MAX` byte limit of Rust slices;
 //! - copies its inputs into owned Rust values first, computes, and writes the caller's
 //!   buffers only at the very end, so nothing is written on any error (cancellation included);
+//! - allocates what grows with the input fallibly, and checks that the memory the topology
+//!   and the optimizer need at their peak is available before they start (their allocations,
+//!   rayon's among them, are not all fallible), so a mesh too large for the memory gives
+//!   [`QuadoptStatus::OutOfMemory`] instead of aborting the host;
+//! - runs the optimizer on the library's own worker threads ([`pool`]), which survive `fork`;
 //! - records a detailed message (which quad, which index, which option) in a thread-local
-//!   buffer read by [`quadopt_last_error`]. There is no other global mutable state.
+//!   buffer read by [`quadopt_last_error`], and prints nothing ([`quiet`]). The only other
+//!   global state is the worker pool.
 //!
 //! Enum-valued option fields are plain `u32` in the structs (a C caller can store any integer
 //! there, which must never be read as a Rust enum) and are validated when converted.
 //! Growable structs ([`QuadoptOptions`], [`QuadoptReport`]) start with `struct_size`: the
 //! library reads (or writes) only the prefix the caller declared.
 
+use crate::alloc::try_with_capacity;
 use crate::error::Error;
 use crate::mesh::QuadMesh;
 use crate::quality::QualityStats;
@@ -450,7 +457,9 @@ unsafe fn read_points(coords: *const f64, dim: u32, vertex_count: usize) -> Resu
     let len = checked_count(vertex_count, dim, "vertex_count * dim")?;
     // SAFETY: the caller guarantees `coords` holds `vertex_count * dim` doubles.
     let flat = unsafe { checked_slice(coords, len, "coords") }?;
-    Ok(flat.chunks_exact(dim).map(|c| DVec2::new(c[0], c[1])).collect())
+    let mut points = try_with_capacity(vertex_count, "vertex coordinates")?;
+    points.extend(flat.chunks_exact(dim).map(|c| DVec2::new(c[0], c[1])));
+    Ok(points)
 }
 
 /// Reads `quad_count` quads of four `uint32_t` indices into owned memory.
@@ -462,7 +471,9 @@ unsafe fn read_quads(quads: *const u32, quad_count: usize) -> Result<Vec<[u32; 4
     let len = checked_count(quad_count, 4, "quad_count * 4")?;
     // SAFETY: the caller guarantees `quads` holds `4 * quad_count` indices.
     let flat = unsafe { checked_slice(quads, len, "quads") }?;
-    Ok(flat.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]).collect())
+    let mut out = try_with_capacity(quad_count, "quads")?;
+    out.extend(flat.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]));
+    Ok(out)
 }
 
 /// Reads the optional fixed mask (`vertex_count` bytes, nonzero = fixed).
@@ -475,7 +486,9 @@ unsafe fn read_fixed(fixed: *const u8, vertex_count: usize) -> Result<Option<Vec
     }
     // SAFETY: non-null, so the caller guarantees `vertex_count` bytes.
     let flags = unsafe { checked_slice(fixed, vertex_count, "fixed") }?;
-    Ok(Some(flags.iter().map(|&f| f != 0).collect()))
+    let mut out = try_with_capacity(vertex_count, "fixed flags")?;
+    out.extend(flags.iter().map(|&f| f != 0));
+    Ok(Some(out))
 }
 
 /// Builds and validates a mesh from the caller's arrays.
@@ -683,11 +696,50 @@ fn default_options() -> QuadoptOptions {
     }
 }
 
-/// Runs the optimizer on an owned mesh on the library's worker threads, calling the C progress
-/// callback on the calling thread, and returns the new positions and the report. Cancellation
-/// is an error here, so nothing is written.
+// ---------------------------------------------------------------------------------------
+// Memory the topology and the optimizer need.
+
+/// Peak bytes of building the topology, per vertex or quad (whichever is more), measured by
+/// tests/memory.rs (about 105) with room to spare.
+const TOPOLOGY_BYTES_PER_ELEMENT: u128 = 128;
+/// Peak bytes of a run beyond the mesh and its topology, per vertex or quad (measured up to
+/// about 125 with any method and boundary mode), per boundary edge (up to about 40) and fixed.
+const RUN_BYTES_PER_ELEMENT: u128 = 140;
+const RUN_BYTES_PER_BOUNDARY_EDGE: u128 = 64;
+const RUN_BYTES_FIXED: u128 = 1 << 20;
+
+/// Upper estimate of the bytes `Optimizer::new(mesh)` allocates at its peak.
+#[doc(hidden)]
+pub fn topology_bytes(mesh: &QuadMesh) -> u128 {
+    TOPOLOGY_BYTES_PER_ELEMENT * mesh.points().len().max(mesh.quads().len()) as u128
+}
+
+/// Upper estimate of the bytes one `Optimizer::run` on `mesh` allocates at its peak.
+#[doc(hidden)]
+pub fn run_bytes(mesh: &QuadMesh) -> u128 {
+    let elements = mesh.points().len().max(mesh.quads().len()) as u128;
+    RUN_BYTES_PER_ELEMENT * elements
+        + RUN_BYTES_PER_BOUNDARY_EDGE * mesh.boundary_edge_count() as u128
+        + RUN_BYTES_FIXED
+}
+
+/// Checks that `bytes` can be allocated now (in one piece, so also in the many pieces the
+/// work will use), and frees them again: an address-space or commit limit too tight for the
+/// work fails here, as an error, rather than in an allocation that aborts. The probe is
+/// never written, so it costs address space for a moment, not memory.
+fn check_memory_for(bytes: u128, what: &'static str) -> Result<(), Error> {
+    let fail = || Error::OutOfMemory { what, bytes };
+    let probe = try_with_capacity::<u8>(usize::try_from(bytes).map_err(|_| fail())?, what).map_err(|_| fail())?;
+    drop(probe);
+    Ok(())
+}
+
+/// Runs the optimizer (`built`, else one built here for `mesh`) on an owned mesh on the
+/// library's worker threads, calling the C progress callback on the calling thread, and
+/// returns the new positions and the report. Cancellation is an error here, so nothing is
+/// written.
 fn run(
-    optimizer: &Optimizer,
+    built: Option<&Optimizer>,
     mut mesh: QuadMesh,
     o: &QuadoptOptions,
 ) -> Result<(QuadMesh, Report), FfiError> {
@@ -715,6 +767,17 @@ fn run(
                     energy: p.energy,
                     energy_change: p.energy_change,
                 })
+        };
+        // Checked on a worker, once the pool (its stacks, its allocator arenas) exists.
+        let needed = run_bytes(&mesh) + built.map_or_else(|| topology_bytes(&mesh), |_| 0);
+        check_memory_for(needed, "the optimizer's working memory")?;
+        let owned;
+        let optimizer = match built {
+            Some(optimizer) => optimizer,
+            None => {
+                owned = Optimizer::new(&mesh);
+                &owned
+            }
         };
         optimizer.run(&mut mesh, &options, Some(&mut forward)).map(|report| (mesh, report))
     };
@@ -879,8 +942,7 @@ pub unsafe extern "C" fn quadopt_optimize(
         convert_options(&o)?;
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
-        let optimizer = Optimizer::new(&mesh);
-        let (mesh, r) = run(&optimizer, mesh, &o)?;
+        let (mesh, r) = run(None, mesh, &o)?;
         // SAFETY: `coords` held `vertex_count * dim` doubles (checked by read_mesh), and the
         // report size was checked against the caller's declaration.
         unsafe {
@@ -927,7 +989,7 @@ pub unsafe extern "C" fn quadopt_quality(
         }
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, std::ptr::null()) }?;
-        let values = mesh.quality_values();
+        let values = mesh.try_quality_values()?;
         let stats = quality_of(&QualityStats::from_values(&values));
         // SAFETY: `out` is non-null and aligned (checked); `per_quad`, if non-null, is aligned
         // and holds per_quad_len >= quad_count = values.len() doubles (checked).
@@ -962,6 +1024,7 @@ pub unsafe extern "C" fn quadopt_optimizer_create(
         require_non_null(out.cast_const(), "out")?;
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
+        check_memory_for(topology_bytes(&mesh), "the mesh's topology")?;
         let optimizer = Optimizer::new(&mesh);
         let handle = Box::into_raw(Box::new(QuadoptOptimizer { mesh, optimizer }));
         // SAFETY: `out` is non-null and aligned (checked) and writable by the contract.
@@ -1002,9 +1065,9 @@ pub unsafe extern "C" fn quadopt_optimizer_optimize(
         }
         // SAFETY: forwarded from this function's contract.
         let points = unsafe { read_points(coords, dim, vertex_count) }?;
-        let mut mesh = handle.mesh.clone();
+        let mut mesh = handle.mesh.try_clone()?;
         mesh.set_points(&points)?;
-        let (mesh, r) = run(&handle.optimizer, mesh, &o)?;
+        let (mesh, r) = run(Some(&handle.optimizer), mesh, &o)?;
         // SAFETY: as in quadopt_optimize.
         unsafe {
             write_points(coords, dim as usize, mesh.points());

@@ -514,7 +514,7 @@ fn cmd_generate(output: &Path, spec: &Synthetic) -> Result<(), Fail> {
     if spec.nx == 0 || spec.ny == 0 {
         return Err(Fail::Usage("--nx and --ny must be at least 1".into()));
     }
-    let mesh = spec.generate();
+    let mesh = spec.try_generate()?;
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
     io::write_mesh(output, &MeshData::new(points, mesh.quads_as_given()))?;
     let q = mesh.quality();

@@ -699,19 +699,21 @@ fn default_options() -> QuadoptOptions {
 // ---------------------------------------------------------------------------------------
 // Memory the topology and the optimizer need.
 
-/// Peak bytes of building the topology, per vertex or quad (whichever is more), measured by
-/// tests/memory.rs (about 105) with room to spare.
+/// Peak bytes of building the topology, per vertex or quad (whichever is more) and fixed:
+/// measured by tests/memory.rs at up to about 107 per element, with room to spare.
 const TOPOLOGY_BYTES_PER_ELEMENT: u128 = 128;
-/// Peak bytes of a run beyond the mesh and its topology, per vertex or quad (measured up to
-/// about 125 with any method and boundary mode), per boundary edge (up to about 40) and fixed.
+const TOPOLOGY_BYTES_FIXED: u128 = 64 << 10;
+/// Peak bytes of a run beyond the mesh and its topology, per vertex or quad, per boundary
+/// edge and fixed: measured at up to about 120 per element plus 40 per boundary edge, with
+/// any method and boundary mode.
 const RUN_BYTES_PER_ELEMENT: u128 = 140;
 const RUN_BYTES_PER_BOUNDARY_EDGE: u128 = 64;
-const RUN_BYTES_FIXED: u128 = 1 << 20;
+const RUN_BYTES_FIXED: u128 = 64 << 10;
 
 /// Upper estimate of the bytes `Optimizer::new(mesh)` allocates at its peak.
 #[doc(hidden)]
 pub fn topology_bytes(mesh: &QuadMesh) -> u128 {
-    TOPOLOGY_BYTES_PER_ELEMENT * mesh.points().len().max(mesh.quads().len()) as u128
+    TOPOLOGY_BYTES_PER_ELEMENT * mesh.points().len().max(mesh.quads().len()) as u128 + TOPOLOGY_BYTES_FIXED
 }
 
 /// Upper estimate of the bytes one `Optimizer::run` on `mesh` allocates at its peak.

@@ -122,12 +122,18 @@ fn a_child_forked_after_use_finishes_its_calls() {
     assert_eq!(optimize(&coords, &quads), (QuadoptStatus::Ok, expected));
 }
 
-/// Runs this binary's test `name` again in a fresh process with `QUADOPT_TEST_CHILD=name`.
+/// Runs this binary's test `name` again in a fresh process with `QUADOPT_TEST_CHILD=name`
+/// and two worker threads.
 fn run_in_child(name: &str) {
+    run_in_child_with(name, &[]);
+}
+
+fn run_in_child_with(name: &str, env: &[(&str, &str)]) {
     let out = std::process::Command::new(std::env::current_exe().unwrap())
         .args(["--exact", name, "--nocapture", "--test-threads=1"])
         .env("QUADOPT_TEST_CHILD", name)
         .env("RAYON_NUM_THREADS", "2")
+        .envs(env.iter().copied())
         .output()
         .unwrap();
     let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
@@ -175,4 +181,118 @@ fn threads_that_cannot_start_give_a_status_leave_none_behind_and_later_calls_wor
     assert_eq!(thread_count(), baseline);
     let (s, _) = optimize(&coords, &quads);
     assert_eq!((s, thread_count()), (QuadoptStatus::Ok, baseline + 2), "{}", last_error());
+}
+
+/// The case: a valid 200-million-vertex input (3.2 GB of coordinates, all but one
+/// quad's unused, so its pages are never touched) with room for less than the library's copy
+/// of it. Every entry point returns QUADOPT_STATUS_OUT_OF_MEMORY instead of aborting.
+#[test]
+#[cfg(target_pointer_width = "64")]
+fn a_valid_input_too_large_for_the_address_space_is_an_out_of_memory_status() {
+    const NAME: &str = "a_valid_input_too_large_for_the_address_space_is_an_out_of_memory_status";
+    if !is_child(NAME) {
+        return run_in_child(NAME);
+    }
+    let n = 200_000_000;
+    let mut coords = vec![0.0f64; 2 * n];
+    coords[..8].copy_from_slice(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]);
+    let quads = [0u32, 1, 2, 3];
+    let fixed = vec![0u8; n];
+    set_address_space_limit(address_space() + (2 << 30));
+    let mut out = QuadoptQuality::default();
+    let mut handle = null_mut();
+    // SAFETY: live buffers of the stated lengths.
+    let statuses = unsafe {
+        [
+            quadopt_optimize(coords.as_mut_ptr(), 2, n, quads.as_ptr(), 1, fixed.as_ptr(), null(), null_mut()),
+            quadopt_quality(coords.as_ptr(), 2, n, quads.as_ptr(), 1, &mut out, null_mut(), 0),
+            quadopt_optimizer_create(coords.as_ptr(), 2, n, quads.as_ptr(), 1, null(), &mut handle),
+        ]
+    };
+    let message = last_error();
+    set_address_space_limit(libc::RLIM_INFINITY);
+    assert_eq!(statuses, [QuadoptStatus::OutOfMemory; 3], "{message}");
+    assert!(message.contains("out of memory: cannot allocate 3200000000 bytes for vertex coordinates"), "{message}");
+    assert!(handle.is_null() && out == QuadoptQuality::default());
+    assert_eq!(coords[2..8], [1.0, 0.0, 1.0, 1.0, 0.0, 1.0]);
+    // The synthetic generator (behind `quadopt generate`) fails the same way.
+    set_address_space_limit(address_space() + (256 << 20));
+    let grid = quadopt::synthetic::Synthetic { nx: 20_000, ny: 20_000, ..Default::default() }.try_generate();
+    set_address_space_limit(libc::RLIM_INFINITY);
+    assert!(matches!(grid, Err(quadopt::Error::OutOfMemory { .. })), "{:?}", grid.map(|m| m.points().len()));
+}
+
+/// Under every address-space limit from "no room at all" to "room enough", each entry point
+/// either succeeds with the unlimited result or returns QUADOPT_STATUS_OUT_OF_MEMORY having
+/// written nothing: no allocation on the way aborts the process.
+#[test]
+fn every_address_space_limit_gives_the_result_or_out_of_memory() {
+    const NAME: &str = "every_address_space_limit_gives_the_result_or_out_of_memory";
+    if !is_child(NAME) {
+        // glibc: every block of 64 KiB or more gets its own mapping, returned when freed, and
+        // one arena, so that a limit counts what the calls allocate, not what malloc keeps.
+        let tunables = "glibc.malloc.mmap_threshold=65536:glibc.malloc.trim_threshold=65536:glibc.malloc.arena_max=1";
+        return run_in_child_with(NAME, &[("GLIBC_TUNABLES", tunables)]);
+    }
+    let (coords, quads) = jittered_grid(150);
+    let (v, q) = (coords.len() / 2, quads.len() / 4);
+    let mut options = quadopt_options_defaults();
+    options.max_iterations = 5;
+    let optimize = |c: &mut [f64]| {
+        // SAFETY: live buffers of the stated lengths.
+        unsafe { quadopt_optimize(c.as_mut_ptr(), 2, v, quads.as_ptr(), q, null(), &options, null_mut()) }
+    };
+    let mut expected = coords.clone();
+    assert_eq!(optimize(&mut expected), QuadoptStatus::Ok, "{}", last_error());
+    let mut handle = null_mut();
+    // SAFETY: live buffers; `handle` receives a pointer.
+    let s = unsafe { quadopt_optimizer_create(coords.as_ptr(), 2, v, quads.as_ptr(), q, null(), &mut handle) };
+    assert_eq!(s, QuadoptStatus::Ok);
+    let mut quality = QuadoptQuality::default();
+    // SAFETY: live buffers.
+    let s = unsafe { quadopt_quality(coords.as_ptr(), 2, v, quads.as_ptr(), q, &mut quality, null_mut(), 0) };
+    assert_eq!(s, QuadoptStatus::Ok);
+
+    let base = address_space();
+    let (mut refused, mut succeeded) = (0, 0);
+    for extra in (0..=64).map(|k| k << 18) {
+        let mut one_shot = coords.clone();
+        let mut via_handle = coords.clone();
+        let mut created = null_mut();
+        let mut q2 = QuadoptQuality::default();
+        set_address_space_limit(base + extra);
+        // SAFETY: live buffers of the stated lengths; `handle` is live.
+        let statuses = unsafe {
+            [
+                optimize(&mut one_shot),
+                quadopt_optimizer_optimize(handle, via_handle.as_mut_ptr(), 2, v, &options, null_mut()),
+                quadopt_quality(coords.as_ptr(), 2, v, quads.as_ptr(), q, &mut q2, null_mut(), 0),
+                quadopt_optimizer_create(coords.as_ptr(), 2, v, quads.as_ptr(), q, null(), &mut created),
+            ]
+        };
+        set_address_space_limit(libc::RLIM_INFINITY);
+        let outputs = [&one_shot, &via_handle];
+        for (k, s) in statuses.iter().enumerate() {
+            match s {
+                QuadoptStatus::Ok => succeeded += 1,
+                QuadoptStatus::OutOfMemory => refused += 1,
+                other => panic!("limit +{extra}: call {k} returned {other:?}"),
+            }
+        }
+        for (out, s) in outputs.iter().zip(&statuses) {
+            let want = if *s == QuadoptStatus::Ok { &expected } else { &coords };
+            assert!(out.iter().zip(want).all(|(a, b)| a.to_bits() == b.to_bits()), "limit +{extra}: {s:?}");
+        }
+        assert_eq!(q2 == quality, statuses[2] == QuadoptStatus::Ok, "limit +{extra}");
+        assert_eq!(created.is_null(), statuses[3] != QuadoptStatus::Ok, "limit +{extra}");
+        // SAFETY: NULL or a handle created above.
+        unsafe { quadopt_optimizer_free(created) };
+    }
+    // The sweep spans both outcomes (where the tunables above apply).
+    println!("{refused} calls refused, {succeeded} succeeded");
+    if cfg!(target_env = "gnu") {
+        assert!(refused >= 4 && succeeded >= 4, "refused {refused}, succeeded {succeeded}");
+    }
+    // SAFETY: created above.
+    unsafe { quadopt_optimizer_free(handle) };
 }

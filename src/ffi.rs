@@ -79,7 +79,10 @@ pub enum QuadoptStatus {
     Panic = 12,
     /// Reserved: the mesh is not planar. Not returned by this version (z is ignored).
     NotPlanar = 13,
-    /// An allocation that grows with the input failed; nothing was written.
+    /// Not enough memory (or threads) for this mesh: an allocation that grows with the input
+    /// failed, the memory the optimizer needs at its peak was not available when checked before
+    /// it started, or not even one worker thread could start. Nothing was written; the same
+    /// call can succeed with more memory available.
     OutOfMemory = 14,
 }
 
@@ -134,7 +137,8 @@ pub struct QuadoptProgress {
 /// only during the call) and the options' `progress_user_data`. Return false to cancel: the
 /// call then fails with `QUADOPT_STATUS_CANCELLED` and writes nothing. The callback may call
 /// other quadopt functions, but must not throw a C++ exception or `longjmp` out of itself
-/// (that would unwind through Rust frames; catch inside and return false instead).
+/// (that would unwind through Rust frames; catch inside and return false instead), and must
+/// not `fork` (the run's worker would be missing in the child).
 pub type QuadoptProgressFn =
     Option<unsafe extern "C" fn(progress: *const QuadoptProgress, user_data: *mut c_void) -> bool>;
 

@@ -49,6 +49,9 @@ void test_options() {
   CHECK(r.max_boundary_deviation == 0.25 && r.struct_size == sizeof(QuadoptOptions));
   CHECK(std::string(quadopt::version()) == quadopt_version());
   CHECK(std::string(quadopt::status_string(QUADOPT_STATUS_NO_QUADS)) == quadopt_status_string(4));
+  // Out of memory is a quadopt::Error like any other failure (not std::bad_alloc).
+  const quadopt::Error oom(QUADOPT_STATUS_OUT_OF_MEMORY, "cannot allocate 32 bytes for quads");
+  CHECK(std::string(oom.what()) == "out of memory: cannot allocate 32 bytes for quads");
 }
 
 void test_errors() {

@@ -6,17 +6,79 @@
 //!   result), topology built once outside the timing;
 //! - `optimize/N`: a full run with the default options (untangling, guarded moves, automatic
 //!   boundary mode, size-independent termination);
-//! - `topology/N`: building the CSR topology.
+//! - `topology/N`: building the CSR topology;
+//! - `samples/optimize/NAME`: a full default run on each sample mesh of `data/` (topology
+//!   included).
 //!
-//! `cargo bench --bench optimize` runs them. A full run on 1M quads takes minutes and criterion
+//! Before each size's group it prints the peak heap bytes of a default run (topology build
+//! included, the caller's mesh excluded) per vertex. `cargo bench --bench optimize` runs them. A full run on 1M quads takes minutes and criterion
 //! needs at least ten samples, so `optimize/1000000` only runs with QUADOPT_BENCH_1M=1;
 //! `QUADOPT_BENCH_SIZES=10000,100000` picks other sizes.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use quadopt::synthetic::Synthetic;
 use quadopt::{BoundaryMode, Optimizer, Options, Topology};
+use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
+
+/// Counts the bytes live on the heap and their peak, to report the library's working set.
+struct Counting;
+
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator; the counters are only statistics.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: the caller's contract is passed on unchanged.
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(live, Ordering::Relaxed);
+        }
+        p
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as above.
+        unsafe { System.dealloc(ptr, layout) };
+        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Peak heap bytes allocated by `f` beyond what was live when it started.
+fn peak_bytes(f: impl FnOnce()) -> usize {
+    let base = LIVE.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    f();
+    PEAK.load(Ordering::Relaxed) - base
+}
+
+/// Prints the working set of a default run (topology included) per vertex.
+fn report_working_set(mesh: &quadopt::QuadMesh) {
+    let vertices = mesh.points().len();
+    let bytes = peak_bytes(|| {
+        let mut m = mesh.clone();
+        let optimizer = Optimizer::new(&m);
+        optimizer.run(&mut m, &Options::default(), None).unwrap();
+    });
+    // The clone of the mesh is the caller's data, not the library's working set.
+    let own = bytes.saturating_sub(mesh_bytes(mesh));
+    println!(
+        "working set/{vertices} vertices: {:.1} bytes per vertex ({} MB)",
+        own as f64 / vertices as f64,
+        own >> 20
+    );
+}
+
+fn mesh_bytes(mesh: &quadopt::QuadMesh) -> usize {
+    let n = mesh.points().len();
+    n * (size_of::<quadopt::DVec2>() + size_of::<bool>()) + mesh.quads().len() * size_of::<[u32; 4]>()
+}
 
 fn sizes() -> Vec<usize> {
     // `cargo test --all-targets` runs each benchmark once as a smoke test (no `--bench`
@@ -33,6 +95,9 @@ fn benches(c: &mut Criterion) {
     for n in sizes() {
         let mesh = Synthetic::with_quads(n).generate();
         let optimizer = Optimizer::new(&mesh);
+        if n < 1_000_000 || full_1m {
+            report_working_set(&mesh);
+        }
         let mut group = c.benchmark_group(format!("{n}"));
         group.sample_size(10).warm_up_time(Duration::from_millis(500));
         group.bench_function(BenchmarkId::new("topology", n), |b| b.iter(|| Topology::new(black_box(&mesh))));
@@ -63,5 +128,28 @@ fn benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(name = optimize; config = Criterion::default(); targets = benches);
+/// A full default run on each sample mesh of `data/` (`samples/NAME`).
+fn samples(c: &mut Criterion) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    files.retain(|p| quadopt::io::Format::from_path(p).is_ok());
+    files.sort();
+    let mut group = c.benchmark_group("samples");
+    group.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(3));
+    for path in files {
+        let data = quadopt::io::read_mesh(&path).unwrap();
+        let mesh = quadopt::io::PlanarMesh::new(&data).unwrap().mesh;
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        group.bench_function(BenchmarkId::new("optimize", name), |b| {
+            b.iter_batched_ref(
+                || mesh.clone(),
+                |m| quadopt::optimize(m, &Options::default()).unwrap(),
+                criterion::BatchSize::SmallInput,
+            )
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(name = optimize; config = Criterion::default(); targets = benches, samples);
 criterion_main!(optimize);

@@ -193,11 +193,12 @@ typedef uint32_t QuadoptBoundary;
 typedef struct QuadoptOptimizer QuadoptOptimizer;
 
 /**
- * Progress of a run, passed to the progress callback after every sweep.
+ * Progress of a run, passed to the progress callback after every sweep (and regularly while
+ * untangling, with `iteration` 0 and NaN energies).
  */
 typedef struct QuadoptProgress {
     /**
-     * Sweeps done so far in the current pass (1-based).
+     * Sweeps done so far in the current pass (1-based; 0 while untangling).
      */
     size_t iteration;
     /**
@@ -261,7 +262,7 @@ typedef struct QuadoptOptions {
      */
     double lambda;
     /**
-     * Stopping threshold on the energy change between sweeps, finite and >= 0: per movable
+     * Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
      * vertex, or absolute when `tau_absolute` is set (default 1e-7).
      */
     double tau;
@@ -297,9 +298,9 @@ typedef struct QuadoptOptions {
      */
     uint8_t keep_best;
     /**
-     * Reserved; set to 0. Ignored by this version.
+     * When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
      */
-    uint32_t reserved0;
+    uint32_t stop_rule;
     /**
      * Progress callback, or NULL for none (default NULL).
      */

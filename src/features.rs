@@ -1,9 +1,8 @@
 //! Which vertices may move in a run: corners and features (Section 3.3), fixed vertices and
-//! the boundary mode. Recomputed per run from the current positions, so one [`Topology`]
+//! whether the boundary may move at all. Recomputed per run from the current positions, so one [`Topology`]
 //! serves many runs.
 
 use crate::mesh::QuadMesh;
-use crate::smooth::BoundaryMode;
 use crate::topology::{Topology, VertexKind};
 use glam::DVec2;
 
@@ -36,8 +35,9 @@ impl Features {
     /// Classifies the vertices of `mesh`.
     ///
     /// A boundary vertex is a corner when its number of incident quads is not 2 or its
-    /// boundary angle differs from 180 degrees by more than `feature_angle_deg`.
-    pub fn new(mesh: &QuadMesh, topo: &Topology, feature_angle_deg: f64, mode: BoundaryMode) -> Features {
+    /// boundary angle differs from 180 degrees by more than `feature_angle_deg`. Boundary
+    /// vertices are movable only when `boundary_moves` (a boundary mode other than fixed).
+    pub fn new(mesh: &QuadMesh, topo: &Topology, feature_angle_deg: f64, boundary_moves: bool) -> Features {
         let n = topo.vertex_count();
         let points = mesh.points();
         let mut corner = vec![false; n];
@@ -51,7 +51,7 @@ impl Features {
                     let turn = (boundary_angle_deg(points, topo, v) - 180.0).abs();
                     corner[v] =
                         topo.quad_count(v) != 2 || turn > feature_angle_deg + FEATURE_ANGLE_TOLERANCE_DEG;
-                    movable[v] = !corner[v] && !mesh.fixed()[v] && mode != BoundaryMode::Fixed;
+                    movable[v] = !corner[v] && !mesh.fixed()[v] && boundary_moves;
                 }
                 VertexKind::NonManifold => {
                     boundary[v] = true;
@@ -114,14 +114,14 @@ mod tests {
     fn corner_rule_uses_turning_angle_and_quad_count() {
         let (m, t) = polygon_patch(10.0);
         assert!((boundary_angle_deg(m.points(), &t, 1) - 170.0).abs() < 1e-9);
-        let f = Features::new(&m, &t, 45.0, BoundaryMode::Slide);
+        let f = Features::new(&m, &t, 45.0, true);
         assert!(!f.is_corner(1) && f.is_movable(1));
         // Vertices with one quad are corners.
         assert!(f.is_corner(0) && !f.is_movable(0));
         let (m, t) = polygon_patch(50.0);
-        let f = Features::new(&m, &t, 45.0, BoundaryMode::Slide);
+        let f = Features::new(&m, &t, 45.0, true);
         assert!(f.is_corner(1));
-        let f = Features::new(&m, &t, 60.0, BoundaryMode::Fixed);
+        let f = Features::new(&m, &t, 60.0, false);
         assert!(!f.is_corner(1) && !f.is_movable(1));
     }
 
@@ -129,7 +129,7 @@ mod tests {
     fn threshold_angle_is_stable() {
         // Exactly 45 degrees of turn (an octagon's angle) is not a corner.
         let (m, t) = polygon_patch(45.0);
-        let f = Features::new(&m, &t, 45.0, BoundaryMode::Slide);
+        let f = Features::new(&m, &t, 45.0, true);
         assert!(!f.is_corner(1));
     }
 }

@@ -27,7 +27,7 @@ use crate::alloc::try_with_capacity;
 use crate::error::Error;
 use crate::mesh::QuadMesh;
 use crate::quality::QualityStats;
-use crate::smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report};
+use crate::smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, StopRule};
 use glam::DVec2;
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_void};
@@ -115,11 +115,24 @@ pub enum QuadoptBoundary {
     Snap = 3,
 }
 
-/// Progress of a run, passed to the progress callback after every sweep.
+/// When a run stops, stored as a `uint32_t` in `QuadoptOptions::stop_rule`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QuadoptStopRule {
+    /// When the collective energy changes by less than `tau` (per movable vertex, or
+    /// absolute with `tau_absolute`), as in the paper.
+    Energy = 0,
+    /// When the result stops improving: two sweeps in a row that lower no inverted count and
+    /// raise the minimum scaled Jacobian by at most 1e-3 and the average by at most 1e-4.
+    Quality = 1,
+}
+
+/// Progress of a run, passed to the progress callback after every sweep (and regularly while
+/// untangling, with `iteration` 0 and NaN energies).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuadoptProgress {
-    /// Sweeps done so far in the current pass (1-based).
+    /// Sweeps done so far in the current pass (1-based; 0 while untangling).
     pub iteration: usize,
     /// The iteration cap of a pass.
     pub max_iterations: usize,
@@ -159,7 +172,7 @@ pub struct QuadoptOptions {
     pub max_iterations: u32,
     /// Step factor, in (0, 1] (default 1).
     pub lambda: f64,
-    /// Stopping threshold on the energy change between sweeps, finite and >= 0: per movable
+    /// Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
     /// vertex, or absolute when `tau_absolute` is set (default 1e-7).
     pub tau: f64,
     /// Boundary vertices turning by more than this many degrees are corners and never move,
@@ -179,8 +192,8 @@ pub struct QuadoptOptions {
     pub untangle: u8,
     /// Nonzero: return the best iterate seen instead of the last one (default 1).
     pub keep_best: u8,
-    /// Reserved; set to 0. Ignored by this version.
-    pub reserved0: u32,
+    /// When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
+    pub stop_rule: u32,
     /// Progress callback, or NULL for none (default NULL).
     pub progress: QuadoptProgressFn,
     /// Passed unchanged to `progress` (default NULL).
@@ -577,12 +590,18 @@ fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         3 => BoundaryMode::Snap,
         b => return Err(bad("boundary", format!("{b} is not a QuadoptBoundary (0 to 3)"))),
     };
+    let stop = match o.stop_rule {
+        0 => StopRule::Energy,
+        1 => StopRule::Quality,
+        r => return Err(bad("stop_rule", format!("{r} is not a QuadoptStopRule (0 or 1)"))),
+    };
     let max_boundary_deviation =
         if o.max_boundary_deviation < 0.0 { None } else { Some(o.max_boundary_deviation) };
     let options = Options {
         method,
         boundary,
         lambda: o.lambda,
+        stop,
         tau: o.tau,
         tau_absolute: o.tau_absolute != 0,
         max_iterations: o.max_iterations as usize,
@@ -694,7 +713,7 @@ fn default_options() -> QuadoptOptions {
         guard: u8::from(d.guard),
         untangle: u8::from(d.untangle),
         keep_best: u8::from(d.keep_best),
-        reserved0: 0,
+        stop_rule: QuadoptStopRule::Energy as u32,
         progress: None,
         progress_user_data: std::ptr::null_mut(),
     }
@@ -1482,7 +1501,6 @@ mod tests {
         let (coords, quads) = patch(2);
         let mut options = Newer { v1: fixed_boundary_options(), extra: [u64::MAX; 4] };
         options.v1.struct_size = size_of::<Newer<QuadoptOptions>>() as u32;
-        options.v1.reserved0 = 0xFFFF_FFFF; // ignored by this version
         let mut report = Newer { v1: sentinel_report(), extra: [0x1234_5678; 4] };
         report.v1.struct_size = size_of::<Newer<QuadoptReport>>() as u32;
         let mut c = coords.clone();
@@ -1517,6 +1535,7 @@ mod tests {
         let (coords, quads) = patch(2);
         let mut calls: Vec<QuadoptProgress> = Vec::new();
         let o = QuadoptOptions {
+            stop_rule: QuadoptStopRule::Energy as u32,
             tau: 0.0, // never converges: the callback decides
             progress: Some(cancel_at_third),
             progress_user_data: (&raw mut calls).cast(),
@@ -1524,9 +1543,10 @@ mod tests {
         };
         assert_eq!(optimize_status(&coords, 2, &quads, None, Some(&o)), QuadoptStatus::Cancelled);
         assert_eq!(calls.len(), 3);
-        assert_eq!(calls.iter().map(|p| p.iteration).collect::<Vec<_>>(), [1, 2, 3]);
+        // The patch has an inverted quad: the first call comes from untangling (iteration 0).
+        assert_eq!(calls.iter().map(|p| p.iteration).collect::<Vec<_>>(), [0, 1, 2]);
         assert!(calls.iter().all(|p| p.pass == 1 && p.passes == 1 && p.max_iterations == 1000));
-        assert!(last_error().contains("cancelled by the progress callback at pass 1 of 1, iteration 3"));
+        assert!(last_error().contains("cancelled by the progress callback at pass 1 of 1, iteration 2"));
         // The same callback under the automatic mode, which plans several passes.
         calls.clear();
         let o = QuadoptOptions { boundary: QuadoptBoundary::Auto as u32, ..o };

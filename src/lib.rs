@@ -45,7 +45,7 @@ pub use error::{Error, Result};
 pub use glam::DVec2;
 pub use mesh::QuadMesh;
 pub use quality::QualityStats;
-pub use smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, optimize};
+pub use smooth::{BoundaryMode, Method, Optimizer, Options, Progress, Report, StopRule, optimize};
 pub use topology::Topology;
 
 /// The README's Rust example, compiled and run as a doc test.

@@ -4,6 +4,8 @@
 //! loops. Everything here depends on connectivity only; which vertices may move is decided per
 //! run from the geometry in [`crate::features`].
 
+use crate::alloc::{out_of_memory, try_copy, try_filled, try_with_capacity};
+use crate::error::{Error, Result};
 use crate::mesh::QuadMesh;
 
 /// How a vertex sits in the mesh.
@@ -43,63 +45,87 @@ pub struct Topology {
     colours: Vec<u32>,
 }
 
+/// A wedge of a quad at a vertex v: the quad's vertices after v, counter-clockwise (`from`,
+/// the edge-neighbour after v; `diag`, the opposite vertex; `prev`, the edge-neighbour before
+/// v). Around v the wedges chain by `prev` of one = `from` of the next.
+type Wedge = (u32, u32, u32);
+
+/// Marks "no entry" in the per-vertex scratch of [`chain_wedges`] and [`trace_loops`].
+const NONE: u32 = u32::MAX;
+
 impl Topology {
-    /// Builds the connectivity of `mesh`.
+    /// Builds the connectivity of `mesh`. Panics if memory runs out; [`Topology::try_new`]
+    /// returns an error instead.
     pub fn new(mesh: &QuadMesh) -> Topology {
+        Topology::try_new(mesh).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Builds the connectivity of `mesh` in time linear in its size, whatever the number of
+    /// quads at a vertex; [`Error::OutOfMemory`] if an array cannot be allocated (or would be
+    /// too long for its 32-bit offsets).
+    pub fn try_new(mesh: &QuadMesh) -> Result<Topology> {
         let n = mesh.points().len();
         let quads = mesh.quads();
-        let mut quad_offsets = vec![0u32; n + 1];
+        // Longest array: edge and diagonal neighbours, two per wedge plus one per boundary vertex.
+        let full_len = (quads.len() as u64 * 8).saturating_add(n as u64);
+        if full_len > u32::MAX as u64 {
+            return Err(Error::OutOfMemory {
+                what: "the topology (more entries than 32-bit offsets can address)",
+                bytes: full_len as u128 * size_of::<u32>() as u128,
+            });
+        }
+        let mut quad_offsets = try_filled(n + 1, 0u32, "topology: quad offsets")?;
         for q in quads {
             for &v in q {
                 quad_offsets[v as usize + 1] += 1;
             }
         }
+        let mut max_quads = 0;
         for v in 0..n {
+            max_quads = max_quads.max(quad_offsets[v + 1]);
             quad_offsets[v + 1] += quad_offsets[v];
         }
-        let mut fill = quad_offsets.clone();
-        let mut vertex_quads = vec![0u32; quads.len() * 4];
+        let mut fill = try_copy(&quad_offsets, "topology: scratch")?;
+        let mut vertex_quads = try_filled(quads.len() * 4, 0u32, "topology: vertex quads")?;
         for (qi, q) in quads.iter().enumerate() {
             for &v in q {
                 vertex_quads[fill[v as usize] as usize] = qi as u32;
                 fill[v as usize] += 1;
             }
         }
+        drop(fill);
 
-        let mut kind = vec![VertexKind::Unused; n];
-        let mut quad_count = vec![0u32; n];
-        let mut ring_offsets = Vec::with_capacity(n + 1);
-        let mut ring = Vec::with_capacity(quads.len() * 5);
-        let mut full_offsets = Vec::with_capacity(n + 1);
-        let mut full_ring = Vec::with_capacity(quads.len() * 9);
+        let mut kind = try_filled(n, VertexKind::Unused, "topology: vertex kinds")?;
+        let mut quad_count = try_filled(n, 0u32, "topology: quad counts")?;
+        let mut ring_offsets = try_with_capacity(n + 1, "topology: ring offsets")?;
+        let mut ring = try_with_capacity(quads.len() * 4 + n, "topology: rings")?;
+        let mut full_offsets = try_with_capacity(n + 1, "topology: full ring offsets")?;
+        let mut full_ring = try_with_capacity(full_len as usize, "topology: full rings")?;
         // Boundary successor of each boundary vertex (for loop tracing), and scratch wedges.
-        let mut boundary_next = vec![u32::MAX; n];
-        let mut wedges: Vec<(u32, u32, u32)> = Vec::new();
+        let mut boundary_next = try_filled(n, NONE, "topology: boundary successors")?;
+        let mut scratch = ChainScratch::new(n, max_quads as usize)?;
+        let mut wedges: Vec<Wedge> = try_with_capacity(max_quads as usize, "topology: scratch")?;
         ring_offsets.push(0);
         full_offsets.push(0);
         for v in 0..n {
             let incident = &vertex_quads[quad_offsets[v] as usize..quad_offsets[v + 1] as usize];
             quad_count[v] = incident.len() as u32;
-            // Each quad is a wedge at v swept counter-clockwise from `next` to `prev`.
             wedges.clear();
-            for &qi in incident {
-                let q = &quads[qi as usize];
-                let i = q.iter().position(|&x| x as usize == v).unwrap_or(0);
-                wedges.push((q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]));
-            }
-            kind[v] = chain_wedges(&mut wedges);
+            wedges.extend(incident.iter().map(|&qi| wedge(&quads[qi as usize], v)));
+            kind[v] = chain_wedges(&wedges, &mut scratch);
             match kind[v] {
                 VertexKind::Interior | VertexKind::Boundary => {
-                    for &(from, diag, _) in wedges.iter() {
+                    let chain = &scratch.chain;
+                    for &(from, diag, _) in chain {
                         ring.push(from);
                         full_ring.push(from);
                         full_ring.push(diag);
                     }
                     if kind[v] == VertexKind::Boundary {
-                        let last = wedges[wedges.len() - 1].2;
+                        let last = chain[chain.len() - 1].2;
                         ring.push(last);
                         full_ring.push(last);
-                        boundary_next[v] = wedges[0].0;
+                        boundary_next[v] = chain[0].0;
                     }
                 }
                 // Several fans: no ring, the vertex never moves.
@@ -108,10 +134,13 @@ impl Topology {
             ring_offsets.push(ring.len() as u32);
             full_offsets.push(full_ring.len() as u32);
         }
+        drop(wedges);
 
-        let (loop_offsets, loops) = trace_loops(quads, &kind, &boundary_next, &quad_offsets, &vertex_quads);
-        let (colour_offsets, colours) = colour_classes(&kind, &full_offsets, &full_ring);
-        Topology {
+        let (loop_offsets, loops) =
+            trace_loops(quads, &kind, &boundary_next, &quad_offsets, &vertex_quads, &mut scratch.slot)?;
+        drop(scratch);
+        let (colour_offsets, colours) = colour_classes(&kind, &full_offsets, &full_ring)?;
+        Ok(Topology {
             kind,
             quad_count,
             ring_offsets,
@@ -124,7 +153,7 @@ impl Topology {
             vertex_quads,
             colour_offsets,
             colours,
-        }
+        })
     }
 
     /// Number of colour classes.
@@ -184,124 +213,190 @@ impl Topology {
     }
 }
 
-fn incident_wedges(quads: &[[u32; 4]], incident: &[u32], v: usize) -> Vec<(u32, u32, u32)> {
-    incident
-        .iter()
-        .map(|&qi| {
-            let q = &quads[qi as usize];
-            let i = q.iter().position(|&x| x as usize == v).unwrap_or(0);
-            (q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4])
-        })
-        .collect()
+/// The wedge of quad `q` at its vertex `v`.
+fn wedge(q: &[u32; 4], v: usize) -> Wedge {
+    let i = q.iter().position(|&x| x as usize == v).unwrap_or(0);
+    (q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4])
 }
 
 /// Greedy colouring of the vertices that have a ring, over the "shares a quad" graph (edge
-/// and diagonal neighbours), in vertex order so the result is deterministic.
-fn colour_classes(kind: &[VertexKind], full_offsets: &[u32], full_ring: &[u32]) -> (Vec<u32>, Vec<u32>) {
+/// and diagonal neighbours), in vertex order so the result is deterministic. A vertex with d
+/// neighbours takes a colour <= d, so only colours up to d are looked at: linear time.
+fn colour_classes(
+    kind: &[VertexKind],
+    full_offsets: &[u32],
+    full_ring: &[u32],
+) -> Result<(Vec<u32>, Vec<u32>)> {
     let n = kind.len();
-    let mut colour = vec![u32::MAX; n];
-    let mut taken: Vec<bool> = Vec::new();
+    let mut colour = try_filled(n, NONE, "topology: colours")?;
+    let widest = full_offsets.windows(2).map(|w| (w[1] - w[0]) as usize).max().unwrap_or(0);
+    let mut taken: Vec<bool> = try_with_capacity(widest + 1, "topology: scratch")?;
     let mut count = 0u32;
     for v in 0..n {
         if !matches!(kind[v], VertexKind::Interior | VertexKind::Boundary) {
             continue;
         }
+        let neighbours = &full_ring[full_offsets[v] as usize..full_offsets[v + 1] as usize];
         taken.clear();
-        taken.resize(count as usize + 1, false);
-        for &u in &full_ring[full_offsets[v] as usize..full_offsets[v + 1] as usize] {
-            let c = colour[u as usize];
-            if c != u32::MAX {
-                taken[c as usize] = true;
+        taken.resize(neighbours.len() + 1, false);
+        for &u in neighbours {
+            if let Some(t) = taken.get_mut(colour[u as usize] as usize) {
+                *t = true;
             }
         }
-        let c = taken.iter().position(|&t| !t).unwrap_or(count as usize) as u32;
+        let c = taken.iter().position(|&t| !t).unwrap_or(neighbours.len()) as u32;
         colour[v] = c;
         count = count.max(c + 1);
     }
-    let mut offsets = vec![0u32; count as usize + 1];
+    let mut offsets = try_filled(count as usize + 1, 0u32, "topology: colour offsets")?;
     for &c in &colour {
-        if c != u32::MAX {
+        if c != NONE {
             offsets[c as usize + 1] += 1;
         }
     }
     for c in 0..count as usize {
         offsets[c + 1] += offsets[c];
     }
-    let mut fill = offsets.clone();
-    let mut members = vec![0u32; offsets[count as usize] as usize];
+    let mut fill = try_copy(&offsets, "topology: scratch")?;
+    let mut members = try_filled(offsets[count as usize] as usize, 0u32, "topology: colour classes")?;
     for (v, &c) in colour.iter().enumerate() {
-        if c != u32::MAX {
+        if c != NONE {
             members[fill[c as usize] as usize] = v as u32;
             fill[c as usize] += 1;
         }
     }
-    (offsets, members)
+    Ok((offsets, members))
 }
 
-/// Orders the wedges around a vertex counter-clockwise (each wedge's `prev` is the next
-/// wedge's `from`). Returns `Interior` for one closed fan, `Boundary` for one open fan (then
-/// the first wedge starts at the boundary), `NonManifold` when they form several fans.
-fn chain_wedges(wedges: &mut [(u32, u32, u32)]) -> VertexKind {
+/// Scratch space of [`chain_wedges`], allocated once for all vertices.
+struct ChainScratch {
+    /// Per mesh vertex: index of the wedge whose `from` it is, [`NONE`] between calls.
+    slot: Vec<u32>,
+    /// Per wedge: index of the wedge after it (whose `from` is its `prev`), or [`NONE`].
+    next: Vec<u32>,
+    /// Per wedge: whether some wedge comes before it.
+    has_prev: Vec<bool>,
+    /// The wedges in counter-clockwise order.
+    chain: Vec<Wedge>,
+}
+
+impl ChainScratch {
+    fn new(vertices: usize, max_wedges: usize) -> Result<ChainScratch> {
+        Ok(ChainScratch {
+            slot: try_filled(vertices, NONE, "topology: scratch")?,
+            next: try_with_capacity(max_wedges, "topology: scratch")?,
+            has_prev: try_with_capacity(max_wedges, "topology: scratch")?,
+            chain: try_with_capacity(max_wedges, "topology: scratch")?,
+        })
+    }
+}
+
+/// Orders the wedges around a vertex counter-clockwise into `scratch.chain` (each wedge's
+/// `prev` is the next wedge's `from`). Returns `Interior` for one closed fan, `Boundary` for
+/// one open fan (then the chain starts at the first wedge, in the given order, that nothing
+/// precedes: the boundary), `NonManifold` when they form several fans. Linear in the number
+/// of wedges: successors are looked up through `scratch.slot`.
+fn chain_wedges(wedges: &[Wedge], scratch: &mut ChainScratch) -> VertexKind {
+    let ChainScratch { slot, next, has_prev, chain } = scratch;
+    chain.clear();
     let k = wedges.len();
     if k == 0 {
         return VertexKind::Unused;
     }
-    // Start at a wedge whose `from` edge is not the `prev` edge of any other wedge.
-    let start = (0..k).find(|&i| !wedges.iter().any(|w| w.2 == wedges[i].0));
+    // In a consistently oriented mesh each directed edge is in one quad, so no two wedges
+    // share a `from` (nor a `prev`); a repeat is treated as several fans.
+    let mut repeated = false;
+    for (i, w) in wedges.iter().enumerate() {
+        let s = &mut slot[w.0 as usize];
+        repeated |= *s != NONE;
+        *s = i as u32;
+    }
+    next.clear();
+    next.extend(wedges.iter().map(|w| slot[w.2 as usize]));
+    has_prev.clear();
+    has_prev.resize(k, false);
+    for &j in next.iter().filter(|&&j| j != NONE) {
+        repeated |= has_prev[j as usize];
+        has_prev[j as usize] = true;
+    }
+    for w in wedges {
+        slot[w.0 as usize] = NONE;
+    }
+    if repeated {
+        return VertexKind::NonManifold;
+    }
+    let start = has_prev.iter().position(|&p| !p);
     let open = start.is_some();
-    wedges.swap(0, start.unwrap_or(0));
-    for i in 1..k {
-        let want = wedges[i - 1].2;
-        match (i..k).find(|&j| wedges[j].0 == want) {
-            Some(j) => wedges.swap(i, j),
-            None => return VertexKind::NonManifold,
+    let start = start.unwrap_or(0) as u32;
+    let mut at = start;
+    loop {
+        chain.push(wedges[at as usize]);
+        if chain.len() == k {
+            break;
+        }
+        at = next[at as usize];
+        if at == NONE || at == start {
+            return VertexKind::NonManifold;
         }
     }
-    match (open, wedges[k - 1].2 == wedges[0].0) {
+    match (open, chain[k - 1].2 == chain[0].0) {
         (false, true) => VertexKind::Interior,
         (true, _) => VertexKind::Boundary,
         (false, false) => VertexKind::NonManifold,
     }
 }
 
-/// Follows boundary edges into closed loops. A boundary edge runs v -> boundary_next[v]; at a
-/// non-manifold vertex the successor is found by matching the incoming edge's quad fan.
+/// Follows boundary edges into closed loops. A boundary edge runs v -> boundary_next[v]; a
+/// non-manifold vertex has several outgoing boundary edges, taken in turn. `slot` is per-vertex
+/// scratch holding [`NONE`] on entry and on return.
 fn trace_loops(
     quads: &[[u32; 4]],
     kind: &[VertexKind],
     boundary_next: &[u32],
     quad_offsets: &[u32],
     vertex_quads: &[u32],
-) -> (Vec<u32>, Vec<u32>) {
-    // Directed boundary edges out of every vertex (a bowtie vertex has several).
+    slot: &mut [u32],
+) -> Result<(Vec<u32>, Vec<u32>)> {
     let n = kind.len();
-    let mut out_edges: Vec<Vec<u32>> = Vec::new();
-    let needs_general = kind.contains(&VertexKind::NonManifold);
-    if needs_general {
-        out_edges = vec![Vec::new(); n];
+    // Outgoing boundary edges of the non-manifold vertices, in CSR form: the wedges' `from`s
+    // that are no wedge's `prev`, in incident order.
+    let mut out_offsets: Vec<u32> = Vec::new();
+    let mut out_edges: Vec<u32> = Vec::new();
+    let mut out_used: Vec<u32> = Vec::new();
+    let boundary_vertices = kind.iter().filter(|&&k| k == VertexKind::Boundary).count();
+    let mut boundary_edges = boundary_vertices;
+    if kind.contains(&VertexKind::NonManifold) {
+        out_offsets = try_filled(n + 1, 0u32, "topology: boundary edges")?;
+        out_used = try_filled(n, 0u32, "topology: boundary edges")?;
         for v in 0..n {
+            out_offsets[v + 1] = out_offsets[v];
             if kind[v] != VertexKind::NonManifold {
                 continue;
             }
             let incident = &vertex_quads[quad_offsets[v] as usize..quad_offsets[v + 1] as usize];
-            let w = incident_wedges(quads, incident, v);
-            for &(from, _, _) in &w {
-                if !w.iter().any(|x| x.2 == from) {
-                    out_edges[v].push(from);
-                }
+            let wedges = || incident.iter().map(|&qi| wedge(&quads[qi as usize], v));
+            for (_, _, prev) in wedges() {
+                slot[prev as usize] = 0;
             }
+            let count = wedges().filter(|&(from, _, _)| slot[from as usize] == NONE).count();
+            out_edges
+                .try_reserve(count)
+                .map_err(|_| out_of_memory::<u32>("topology: boundary edges", count))?;
+            out_edges.extend(wedges().map(|w| w.0).filter(|&from| slot[from as usize] == NONE));
+            for (_, _, prev) in wedges() {
+                slot[prev as usize] = NONE;
+            }
+            out_offsets[v + 1] = out_edges.len() as u32;
         }
+        boundary_edges += out_edges.len();
     }
-    let mut used_out: Vec<Vec<bool>> = out_edges.iter().map(|e| vec![false; e.len()]).collect();
-    let mut visited = vec![false; n];
-    let mut offsets = vec![0u32];
-    let mut loops = Vec::new();
+    let mut visited = try_filled(n, false, "topology: scratch")?;
+    // Every loop starts at a boundary vertex (never at a non-manifold one).
+    let mut offsets = try_with_capacity(boundary_vertices + 1, "topology: boundary loops")?;
+    offsets.push(0u32);
+    let mut loops = try_with_capacity(boundary_edges, "topology: boundary loops")?;
     for start in 0..n {
-        let starts_here = match kind[start] {
-            VertexKind::Boundary => !visited[start],
-            _ => false,
-        };
-        if !starts_here {
+        if kind[start] != VertexKind::Boundary || visited[start] {
             continue;
         }
         let mut v = start;
@@ -309,17 +404,17 @@ fn trace_loops(
             loops.push(v as u32);
             visited[v] = true;
             let next = if kind[v] == VertexKind::NonManifold {
-                match used_out[v].iter().position(|&u| !u) {
-                    Some(i) => {
-                        used_out[v][i] = true;
-                        out_edges[v][i]
-                    }
-                    None => break,
+                // The next unused outgoing edge (they are used in order).
+                let used = &mut out_used[v];
+                if out_offsets[v] + *used == out_offsets[v + 1] {
+                    break;
                 }
+                *used += 1;
+                out_edges[(out_offsets[v] + *used - 1) as usize]
             } else {
                 boundary_next[v]
             };
-            if next == u32::MAX || next as usize == start {
+            if next == NONE || next as usize == start {
                 break;
             }
             v = next as usize;
@@ -332,7 +427,7 @@ fn trace_loops(
         }
         offsets.push(loops.len() as u32);
     }
-    (offsets, loops)
+    Ok((offsets, loops))
 }
 
 #[cfg(test)]

@@ -97,7 +97,7 @@ fn struct_layouts_match_the_rust_definitions() {
             guard,
             untangle,
             keep_best,
-            reserved0,
+            stop_rule,
             progress,
             progress_user_data
         ]
@@ -355,7 +355,7 @@ fn check_c_layouts(stdout: &str) {
         ("QuadoptOptions max_boundary_deviation", offset_of!(QuadoptOptions, max_boundary_deviation)),
         ("QuadoptOptions tau_absolute", offset_of!(QuadoptOptions, tau_absolute)),
         ("QuadoptOptions keep_best", offset_of!(QuadoptOptions, keep_best)),
-        ("QuadoptOptions reserved0", offset_of!(QuadoptOptions, reserved0)),
+        ("QuadoptOptions stop_rule", offset_of!(QuadoptOptions, stop_rule)),
         ("QuadoptOptions progress", offset_of!(QuadoptOptions, progress)),
         ("QuadoptOptions progress_user_data", offset_of!(QuadoptOptions, progress_user_data)),
         ("QuadoptReport input", offset_of!(QuadoptReport, input)),

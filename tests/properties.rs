@@ -27,7 +27,7 @@ use proptest::test_runner::TestCaseError;
 use quadopt::features::Features;
 use quadopt::io::{self, Format, MeshData, MshVersion};
 use quadopt::topology::{Topology, VertexKind};
-use quadopt::{BoundaryMode, DVec2, Error, Method, Optimizer, Options, QuadMesh, Report, optimize};
+use quadopt::{BoundaryMode, DVec2, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize};
 use std::collections::HashMap;
 
 // ---------------------------------------------------------------------------------------
@@ -330,6 +330,8 @@ fn valid_options() -> impl Strategy<Value = Options> {
                 method: m,
                 boundary: b,
                 lambda,
+                // Both rules, drawn with the energy rule's own flag.
+                stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
                 tau,
                 tau_absolute: tau_abs,
                 max_iterations: iters,
@@ -371,6 +373,8 @@ fn any_options() -> impl Strategy<Value = Options> {
                 method: m,
                 boundary: b,
                 lambda,
+                // Both rules, drawn with the energy rule's own flag.
+                stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
                 tau,
                 tau_absolute: tau_abs,
                 max_iterations: iters,
@@ -416,7 +420,8 @@ fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
 /// by a single bit; every boundary vertex lies on its original boundary loop.
 fn check_preserved(before: &QuadMesh, after: &QuadMesh, options: &Options) -> Result<(), TestCaseError> {
     let topo = Topology::new(before);
-    let features = Features::new(before, &topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(before, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     for v in 0..before.points().len() {
         let (a, b) = (before.points()[v], after.points()[v]);
         let pinned = before.fixed()[v]
@@ -891,6 +896,7 @@ fn huge_coordinate_on_the_boundary_does_not_panic() {
         method: Method::AngleBased,
         boundary: BoundaryMode::Auto,
         lambda: 3.7857706061224e-270,
+        stop: StopRule::Energy,
         tau: 2.5193042437317942e93,
         tau_absolute: true,
         max_iterations: 32,

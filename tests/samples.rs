@@ -23,33 +23,12 @@
 //! quality table is printed (`cargo test --release --test samples -- --nocapture`).
 
 mod common;
-use common::Rng;
+use common::samples::{jittered, load, sample_files};
 use quadopt::features::Features;
-use quadopt::io::{self, PlanarMesh};
+
 use quadopt::topology::Topology;
 use quadopt::{BoundaryMode, DVec2, Method, Optimizer, Options, QuadMesh, QualityStats};
-use std::path::{Path, PathBuf};
-
-/// The sample files, sorted by name.
-fn sample_files() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| io::Format::from_path(p).is_ok())
-        .collect();
-    files.sort();
-    files
-}
-
-/// A sample: its file name, the 2D mesh and whether the file had `fixed` flags.
-fn load(path: &Path) -> (String, QuadMesh, bool) {
-    let data = io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    let has_fixed = data.fixed.is_some();
-    let planar = PlanarMesh::new(&data).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let name = path.file_name().unwrap().to_string_lossy().into_owned();
-    (name, planar.mesh, has_fixed)
-}
+use std::path::Path;
 
 /// Distance from `p` to the closed polyline through `loop_points`.
 fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
@@ -83,7 +62,8 @@ fn preservation_failures(
     if before.quads() != after.quads() {
         fails.push("topology changed".to_string());
     }
-    let features = Features::new(before, topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(before, topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     let (lo, hi) = before
         .points()
         .iter()
@@ -245,7 +225,8 @@ fn the_checks_detect_violations() {
     let (_, mesh, _) = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/plate_1hole.vtk"));
     let options = Options::default();
     let topo = Topology::new(&mesh);
-    let features = Features::new(&mesh, &topo, options.feature_angle_deg, options.boundary);
+    let features =
+        Features::new(&mesh, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
     assert!(preservation_failures(&mesh, &mesh.clone(), &topo, &options).is_empty());
     let outer = topo.boundary_loop(0);
     let corner = *outer.iter().find(|&&v| features.is_corner(v as usize)).unwrap() as usize;
@@ -320,26 +301,6 @@ fn samples_are_as_poor_as_the_papers_inputs() {
         outer.sort_unstable();
         assert_eq!(pinned, outer, "{name}: the fixed vertices are not the outer boundary loop");
     }
-}
-
-/// `mesh` with every movable interior vertex moved by up to `amount` times its shortest
-/// incident edge, in a random direction.
-fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> QuadMesh {
-    let mut rng = Rng(seed);
-    let mut points = mesh.points().to_vec();
-    for (v, point) in points.iter_mut().enumerate() {
-        if topo.kind(v) != quadopt::topology::VertexKind::Interior || mesh.fixed()[v] {
-            continue;
-        }
-        let p = mesh.points()[v];
-        let h = topo
-            .ring(v)
-            .iter()
-            .map(|&u| (mesh.points()[u as usize] - p).length())
-            .fold(f64::INFINITY, f64::min);
-        *point = p + amount * h * DVec2::new(rng.next(), rng.next());
-    }
-    QuadMesh::new(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
 }
 
 #[test]

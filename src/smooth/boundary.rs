@@ -82,6 +82,11 @@ impl BoundaryGeometry {
         self.arclength.clone()
     }
 
+    /// Loop of movable boundary vertex `v`.
+    pub fn loop_of(&self, v: usize) -> Option<usize> {
+        self.slot(v).map(|s| self.slot_loop(s))
+    }
+
     /// Slot of movable boundary vertex `v`.
     pub fn slot(&self, v: usize) -> Option<usize> {
         let s = self.slot_of[v];
@@ -222,7 +227,8 @@ fn bracketed_root(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     0.5 * (x0 + x1)
 }
 
-/// One boundary update of movable boundary vertex `v`: new position, new slot parameter and
+/// One boundary update of movable boundary vertex `v` by approach `mode` (slide or snap; fixed
+/// and auto leave it in place): new position, new slot parameter and
 /// the vertex's torsion energy (1/2 theta^2 of its one interior angle) at the old positions.
 #[allow(clippy::too_many_arguments)]
 pub fn update(
@@ -231,7 +237,7 @@ pub fn update(
     geometry: &BoundaryGeometry,
     params: &[f64],
     v: usize,
-    loop_modes: &[BoundaryMode],
+    mode: BoundaryMode,
     lambda: f64,
     max_deviation: Option<f64>,
 ) -> (DVec2, f64, f64) {
@@ -275,7 +281,7 @@ pub fn update(
         return (p, s, energy);
     }
 
-    let target = match loop_modes[l] {
+    let target = match mode {
         BoundaryMode::Fixed | BoundaryMode::Auto => return (p, s, energy),
         BoundaryMode::Slide => {
             // f(s_prev) > 0 > f(s_next): at s_prev v sits on n2 (the previous boundary vertex)

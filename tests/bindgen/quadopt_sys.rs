@@ -92,7 +92,7 @@ pub struct QuadoptOptions {
     pub guard: u8,
     pub untangle: u8,
     pub keep_best: u8,
-    pub reserved0: u32,
+    pub stop_rule: u32,
     pub progress: QuadoptProgressFn,
     pub progress_user_data: *mut ::std::os::raw::c_void,
 }
@@ -140,8 +140,8 @@ const _: () = {
         "Offset of field: QuadoptOptions::keep_best",
     ][::std::mem::offset_of!(QuadoptOptions, keep_best) - 59usize];
     [
-        "Offset of field: QuadoptOptions::reserved0",
-    ][::std::mem::offset_of!(QuadoptOptions, reserved0) - 60usize];
+        "Offset of field: QuadoptOptions::stop_rule",
+    ][::std::mem::offset_of!(QuadoptOptions, stop_rule) - 60usize];
     [
         "Offset of field: QuadoptOptions::progress",
     ][::std::mem::offset_of!(QuadoptOptions, progress) - 64usize];

@@ -73,7 +73,7 @@ int main(void) {
     LAYOUT(QuadoptOptions, max_boundary_deviation);
     LAYOUT(QuadoptOptions, tau_absolute);
     LAYOUT(QuadoptOptions, keep_best);
-    LAYOUT(QuadoptOptions, reserved0);
+    LAYOUT(QuadoptOptions, stop_rule);
     LAYOUT(QuadoptOptions, progress);
     LAYOUT(QuadoptOptions, progress_user_data);
     LAYOUT(QuadoptReport, input);

@@ -1,4 +1,8 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests. Each test crate uses only some of them.
+#![allow(dead_code)]
+
+pub mod hard;
+pub mod samples;
 
 /// Deterministic pseudo-random numbers in [-1, 1) (SplitMix64): the same sequence on every
 /// platform, so generated test meshes never change.

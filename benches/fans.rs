@@ -1,0 +1,59 @@
+//! Criterion benchmarks of fans, one vertex shared by many quads (issue 8, items 2 and 7):
+//!
+//! - `untangle/N/SCALE`: a full default run on a fan of N quads (800 and 2,000) scaled by
+//!   SCALE (1e-5, 1, 1e5), whose centre was pushed outside the fan so most quads are inverted
+//!   (target: under 1 s each; they took from seconds to well over 10 minutes before the
+//!   untangler's local program was solved in linear time);
+//! - `topology/200000`: building the topology of a fan of 200k quads (target: about the time
+//!   of a 200k-quad grid; it took 10 s and more when ring building was quadratic).
+//!
+//! `cargo bench --bench fans` runs them.
+
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use quadopt::{DVec2, Optimizer, Options, QuadMesh, Topology};
+use std::f64::consts::TAU;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// A fan of `n` quads around vertex 0 (boundary at radii 1 and 1.5) scaled by `scale`, with
+/// its centre pushed outside it to (2, 0.3). The same mesh as in tests/fans.rs.
+fn tangled_fan(n: u32, scale: f64) -> QuadMesh {
+    let mut points = vec![DVec2::new(2.0, 0.3) * scale];
+    for i in 0..n {
+        let (a, d) = (TAU * i as f64 / n as f64, TAU * (i as f64 + 0.5) / n as f64);
+        points.push(DVec2::new(a.cos(), a.sin()) * scale);
+        points.push(DVec2::new(d.cos(), d.sin()) * (1.5 * scale));
+    }
+    let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
+    QuadMesh::new(points, quads, None).unwrap()
+}
+
+fn benches(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fans");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for n in [800, 2000] {
+        for scale in [1e-5, 1.0, 1e5] {
+            let mesh = tangled_fan(n, scale);
+            let optimizer = Optimizer::new(&mesh);
+            let id = BenchmarkId::new("untangle", format!("{n}/{scale:e}"));
+            group.bench_function(id, |b| {
+                b.iter_batched_ref(
+                    || mesh.clone(),
+                    |m| {
+                        let r = optimizer.run(m, &Options::default(), None).unwrap();
+                        assert_eq!(r.output.inverted, 0);
+                        r
+                    },
+                    BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    let fan = tangled_fan(200_000, 1.0);
+    group
+        .bench_function(BenchmarkId::new("topology", 200_000), |b| b.iter(|| Topology::new(black_box(&fan))));
+    group.finish();
+}
+
+criterion_group!(fan_benches, benches);
+criterion_main!(fan_benches);

@@ -1,0 +1,41 @@
+//! How iterates are ranked: by inverted count, then minimum scaled Jacobian, then average,
+//! never accepting one that is worse than the input.
+
+use crate::quality::{QualityStats, corners, scaled_jacobian};
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Minimum differences that count when ranking iterates by minimum scaled Jacobian; closer
+/// minima are a tie decided by the average, so a negligible gain of the worst quad does not
+/// beat a large gain of the average.
+pub const MIN_TIE: f64 = 1e-3;
+
+/// Whether `candidate` should replace `best`, given the `input` it may never be worse than.
+pub fn improves(candidate: &QualityStats, best: &QualityStats, input: &QualityStats) -> bool {
+    if candidate.inverted > input.inverted || candidate.min < input.min {
+        return false;
+    }
+    if candidate.inverted != best.inverted {
+        return candidate.inverted < best.inverted;
+    }
+    if (candidate.min - best.min).abs() > MIN_TIE {
+        return candidate.min > best.min;
+    }
+    candidate.avg > best.avg
+}
+
+/// Quads below which statistics are computed on the calling thread.
+const PARALLEL_MIN: usize = 4096;
+
+/// Per-quad scaled Jacobians into `values` (parallel), and their statistics (summed in a
+/// fixed order, so the same on any thread count).
+pub fn stats_of(points: &[DVec2], quads: &[[u32; 4]], values: &mut Vec<f64>) -> QualityStats {
+    values.clear();
+    let value = |q: &[u32; 4]| scaled_jacobian(&corners(points, q));
+    if quads.len() >= PARALLEL_MIN {
+        values.par_extend(quads.par_iter().map(value));
+    } else {
+        values.extend(quads.iter().map(value));
+    }
+    QualityStats::from_values(values)
+}

@@ -1,0 +1,60 @@
+//! What a run reports: progress after every sweep, and the final report.
+
+use super::BoundaryMode;
+use super::fidelity::BoundaryFidelity;
+use super::untangle::TangledQuad;
+use crate::quality::QualityStats;
+
+/// Progress of a run, passed to the progress callback after every sweep.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Sweeps done so far in the current pass (0 while untangling, with NaN energies).
+    pub iteration: usize,
+    /// The iteration cap.
+    pub max_iterations: usize,
+    /// Collective energy measured during the last sweep.
+    pub energy: f64,
+    /// |E_new - E_old| of the last sweep.
+    pub energy_change: f64,
+    /// Current pass (1-based). A run is one pass since `Auto` chooses per vertex; kept so
+    /// callers that display passes keep working.
+    pub pass: usize,
+    /// Number of passes planned (1).
+    pub passes: usize,
+}
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    /// Quality before.
+    pub input: QualityStats,
+    /// Quality after.
+    pub output: QualityStats,
+    /// Sweeps performed.
+    pub iterations: usize,
+    /// Untangling sweeps performed.
+    pub untangle_sweeps: usize,
+    /// Whether the stopping rule was met (false: iteration cap reached or cancelled).
+    pub converged: bool,
+    /// Whether the progress callback cancelled the run.
+    pub cancelled: bool,
+    /// Collective energy of the input.
+    pub initial_energy: f64,
+    /// Collective energy of the output.
+    pub final_energy: f64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Quads that were reversed to make the orientation consistent.
+    pub reoriented_quads: usize,
+    /// Boundary vertices detected as corners (never moved).
+    pub corners: usize,
+    /// Vertices the optimizer was allowed to move.
+    pub movable: usize,
+    /// Boundary mode used for each boundary loop (in [`crate::topology::Topology::boundary_loops`] order); with
+    /// `Auto`, the approach its vertices chose most often.
+    pub loop_modes: Vec<BoundaryMode>,
+    /// How far the boundary moved from the original.
+    pub fidelity: BoundaryFidelity,
+    /// Quads still inverted in the output, and why.
+    pub tangled: Vec<TangledQuad>,
+}

@@ -1,0 +1,272 @@
+//! The sweep loop of a run: untangling, then sweeps colour class by colour class until the
+//! stopping rule says done, keeping the best iterate.
+//!
+//! Vertices of one colour class share no quad, so a class is computed in parallel from the
+//! current positions and applied in a fixed order: the result does not depend on the thread
+//! count. Each vertex takes its method's target through the guard of [`guard`] unless that is
+//! turned off. A pass has one boundary mode per loop; [`super::auto`] chooses them.
+
+use super::boundary::{self, BoundaryGeometry};
+use super::options::{BoundaryMode, Method, Options};
+use super::ranking::{improves, stats_of};
+use super::report::Progress;
+use super::stopping::Stopper;
+use super::{angle_based, embedded_polygon, energy, guard, laplacian, untangle};
+use crate::features::Features;
+use crate::quality::QualityStats;
+use crate::topology::Topology;
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// Classes smaller than this are computed on the calling thread: waking the pool costs more
+/// than it saves (the result is the same either way, as a class is applied in order).
+const PARALLEL_MIN: usize = 2048;
+
+/// Per-vertex result of a sweep.
+#[derive(Clone, Copy, Debug, Default)]
+struct Update {
+    vertex: u32,
+    position: DVec2,
+    /// Boundary arclength parameter (unused for interior vertices).
+    param: f64,
+    /// Torsion energy of the vertex before its move.
+    energy: f64,
+}
+
+/// Result of a pass.
+pub struct Pass {
+    pub points: Vec<DVec2>,
+    pub params: Vec<f64>,
+    pub stats: QualityStats,
+    pub iterations: usize,
+    pub untangle_sweeps: usize,
+    pub converged: bool,
+    pub cancelled: bool,
+    /// Collective energy measured during the first sweep (`None` without sweeps).
+    pub initial_energy: Option<f64>,
+}
+
+/// Everything a pass reads besides the positions.
+pub struct RunContext<'a> {
+    pub topo: &'a Topology,
+    pub features: &'a Features,
+    pub geometry: &'a BoundaryGeometry,
+    pub options: &'a Options,
+    pub quads: &'a [[u32; 4]],
+    pub input: QualityStats,
+    /// Per quad: inverted (scaled Jacobian <= 0) in the input.
+    pub input_inverted: Vec<bool>,
+    /// The guard's floor for this run.
+    pub floor: f64,
+}
+
+impl RunContext<'_> {
+    /// Whether per-quad `values` invert a quad that was valid in the input. Such an iterate is
+    /// never returned, so no quad that was valid ends inverted, even while untangling trades
+    /// one inversion for another on a mesh that stays tangled.
+    pub fn inverts_a_valid_quad(&self, values: &[f64]) -> bool {
+        self.input.inverted > 0 && values.iter().zip(&self.input_inverted).any(|(&v, &was)| v <= 0.0 && !was)
+    }
+
+    /// One full optimization from `start` with the given per-loop boundary modes (slide, snap
+    /// or fixed), reported as pass `pass` of `passes`.
+    pub fn pass(
+        &self,
+        start: &[DVec2],
+        loop_modes: &[BoundaryMode],
+        (pass, passes): (usize, usize),
+        progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Pass {
+        let opts = self.options;
+        let mut points = start.to_vec();
+        let mut params = self.geometry.initial_params();
+        let mut values = Vec::with_capacity(self.quads.len());
+        let (mut untangle_sweeps, mut cancelled) = (0, false);
+        if opts.untangle && self.input.inverted > 0 {
+            // Untangling reports iteration 0 (no smoothing sweep done yet) and no energy.
+            let p = Progress {
+                iteration: 0,
+                max_iterations: opts.max_iterations,
+                energy: f64::NAN,
+                energy_change: f64::NAN,
+                pass,
+                passes,
+            };
+            let mut keep_going = || progress.as_mut().is_none_or(|cb| cb(&p));
+            let u =
+                untangle::untangle(&mut points, self.quads, self.topo, self.features, 200, &mut keep_going);
+            (untangle_sweeps, cancelled) = (u.sweeps, u.cancelled);
+        }
+        let mut best_stats = self.input;
+        let mut best_points = start.to_vec();
+        let mut best_params = params.clone();
+        let current = stats_of(&points, self.quads, &mut values);
+        if !self.inverts_a_valid_quad(&values) && improves(&current, &best_stats, &self.input) {
+            best_stats = current;
+            best_points.copy_from_slice(&points);
+        }
+
+        let mut stopper = Stopper::new(opts, self.features.movable_vertices().len());
+        stopper.start(&current);
+        let largest_class =
+            (0..self.topo.colour_count()).map(|c| self.topo.colour_class(c).len()).max().unwrap_or(0);
+        let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
+        let mut initial_energy = f64::NAN;
+        let (mut iterations, mut converged) = (0, false);
+        while iterations < opts.max_iterations && !cancelled {
+            let mut energy = 0.0;
+            for c in 0..self.topo.colour_count() {
+                let class = self.topo.colour_class(c);
+                updates.clear();
+                {
+                    let (pts, prm) = (&points[..], &params[..]);
+                    let movable = |&&v: &&u32| self.features.is_movable(v as usize);
+                    let update = |&v: &u32| self.update(pts, prm, v as usize, loop_modes);
+                    if class.len() >= PARALLEL_MIN {
+                        updates.par_extend(class.par_iter().filter(movable).map(update));
+                    } else {
+                        updates.extend(class.iter().filter(movable).map(update));
+                    }
+                }
+                // Sequential: the same sum whatever the thread count.
+                for u in &updates {
+                    energy += u.energy;
+                    points[u.vertex as usize] = u.position;
+                    if let Some(slot) = self.geometry.slot(u.vertex as usize) {
+                        params[slot] = u.param;
+                    }
+                }
+            }
+            iterations += 1;
+            if iterations == 1 {
+                initial_energy = energy;
+            }
+            let stats = stats_of(&points, self.quads, &mut values);
+            if !self.inverts_a_valid_quad(&values) && improves(&stats, &best_stats, &self.input) {
+                best_stats = stats;
+                best_points.copy_from_slice(&points);
+                best_params.copy_from_slice(&params);
+            }
+            let (stop, change) = stopper.after_sweep(&stats, energy);
+            if let Some(cb) = progress.as_mut() {
+                let p = Progress {
+                    iteration: iterations,
+                    max_iterations: opts.max_iterations,
+                    energy,
+                    energy_change: change,
+                    pass,
+                    passes,
+                };
+                if !cb(&p) {
+                    cancelled = true;
+                    break;
+                }
+            }
+            if stop {
+                converged = true;
+                break;
+            }
+        }
+        if !opts.keep_best {
+            best_stats = stats_of(&points, self.quads, &mut values);
+            best_points = points;
+            best_params = params;
+        }
+        Pass {
+            points: best_points,
+            params: best_params,
+            stats: best_stats,
+            iterations,
+            untangle_sweeps,
+            converged,
+            cancelled,
+            initial_energy: (!initial_energy.is_nan()).then_some(initial_energy),
+        }
+    }
+
+    /// Collective energy of the movable interior vertices at `points` (boundary vertices
+    /// contribute their one angle inside the sweep; here only the interior part is needed
+    /// for reporting the result).
+    pub fn energy(&self, points: &[DVec2]) -> f64 {
+        self.features
+            .movable_vertices()
+            .iter()
+            .filter(|&&v| !self.features.is_boundary(v as usize))
+            .map(|&v| energy::vertex_energy(points, v as usize, self.topo.ring(v as usize)))
+            .sum()
+    }
+
+    fn update(&self, points: &[DVec2], params: &[f64], v: usize, loop_modes: &[BoundaryMode]) -> Update {
+        if self.features.is_boundary(v) {
+            return self.boundary_update(points, params, v, loop_modes);
+        }
+        let opts = self.options;
+        let ring = self.topo.ring(v);
+        let (target, energy) = match opts.method {
+            Method::EmbeddedPolygon => embedded_polygon::target(points, v, ring),
+            Method::Laplacian => {
+                (laplacian::uniform_target(points, ring), energy::vertex_energy(points, v, ring))
+            }
+            Method::Cotangent => {
+                (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
+            }
+            Method::AngleBased => (
+                angle_based::target(points, v, self.topo.full_ring(v)),
+                energy::vertex_energy(points, v, ring),
+            ),
+        };
+        let p = points[v];
+        let moved = p + opts.lambda * (target - p);
+        // Next to coordinates near f64::MAX a target can overflow: then the vertex stays.
+        let target = if moved.is_finite() { moved } else { p };
+        let position = if opts.guard && target != p {
+            guard::guarded_position(points, self.quads, self.topo, v, target, self.floor)
+        } else {
+            target
+        };
+        Update { vertex: v as u32, position, param: 0.0, energy }
+    }
+
+    /// A boundary vertex: its loop's approach's candidate, accepted whole or not at all, since
+    /// it must stay on the polyline.
+    fn boundary_update(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        v: usize,
+        loop_modes: &[BoundaryMode],
+    ) -> Update {
+        let opts = self.options;
+        let p = points[v];
+        let stay = |energy| Update {
+            vertex: v as u32,
+            position: p,
+            param: current_param(self.geometry, params, v),
+            energy,
+        };
+        let Some(l) = self.geometry.loop_of(v) else { return stay(0.0) };
+        let (target, param, energy) = boundary::update(
+            points,
+            self.topo,
+            self.geometry,
+            params,
+            v,
+            loop_modes[l],
+            opts.lambda,
+            opts.max_boundary_deviation,
+        );
+        if !opts.guard || target == p {
+            return Update { vertex: v as u32, position: target, param, energy };
+        }
+        let at_target = guard::star_min(points, self.quads, self.topo, v, target);
+        let ok = at_target >= self.floor || {
+            let current = guard::star_min(points, self.quads, self.topo, v, p);
+            at_target >= current || current <= 0.0
+        };
+        if ok { Update { vertex: v as u32, position: target, param, energy } } else { stay(energy) }
+    }
+}
+
+fn current_param(geometry: &BoundaryGeometry, params: &[f64], v: usize) -> f64 {
+    geometry.slot(v).map_or(0.0, |s| params[s])
+}

@@ -1,0 +1,160 @@
+//! The quality floor: the default run may never end worse than the default of December 2026
+//! (before the fast-by-default and max-min work) on any of the project's meshes — every sample
+//! in `data/`, its jittered copy and the hard meshes of tests/hard_meshes.rs — nor on the
+//! Mesquite meshes when `../shared/meshes/mesquite` is present (CI-only; skipped otherwise).
+//!
+//! Per mesh, the output's inverted count may not exceed the recorded one and its minimum and
+//! average scaled Jacobian may not be lower than the recorded ones by more than `TOLERANCE`.
+//! The table (time, sweeps, min/avg against the floor) is printed with `--nocapture`; set
+//! `QUADOPT_FLOOR_PRINT=1` to print the rows in this file's format instead.
+
+mod common;
+use common::hard::hard_meshes;
+use common::samples::{jittered, load, sample_files};
+use quadopt::io::{self, PlanarMesh};
+use quadopt::{BoundaryMode, Optimizer, Options, QuadMesh};
+use std::path::{Path, PathBuf};
+
+/// Quality lost against the floor that still passes (the optimizer's own tie threshold).
+const TOLERANCE: f64 = 1e-3;
+
+/// (mesh, inverted, min, avg) of the default run measured before the speed work.
+#[rustfmt::skip]
+const FLOOR: &[(&str, usize, f64, f64)] = &[
+    ("mazewheel.vtk", 0, 0.093734, 0.906540),
+    ("mazewheel.vtk (jittered)", 0, 0.093734, 0.906545),
+    ("patch_notched.vtk", 0, 0.120990, 0.883603),
+    ("patch_notched.vtk (jittered)", 0, 0.120990, 0.883604),
+    ("patch_slotted.vtk", 0, 0.202309, 0.898356),
+    ("patch_slotted.vtk (jittered)", 0, 0.202309, 0.898473),
+    ("plate_10holes.vtk", 0, 0.585633, 0.887302),
+    ("plate_10holes.vtk (jittered)", 0, 0.585602, 0.887301),
+    ("plate_1hole.vtk", 0, 0.669759, 0.904114),
+    ("plate_1hole.vtk (jittered)", 0, 0.669669, 0.904098),
+    ("plate_1hole_fine.vtk", 0, 0.800311, 0.981470),
+    ("plate_1hole_fine.vtk (jittered)", 0, 0.798337, 0.981458),
+    ("plate_2holes.vtk", 0, 0.752749, 0.910270),
+    ("plate_2holes.vtk (jittered)", 0, 0.762058, 0.910643),
+    ("plate_2holes_2squares.vtk", 0, 0.579115, 0.898798),
+    ("plate_2holes_2squares.vtk (jittered)", 0, 0.579115, 0.899907),
+    ("plate_3holes.vtk", 0, 0.704662, 0.899451),
+    ("plate_3holes.vtk (jittered)", 0, 0.706012, 0.899019),
+    ("plate_3holes_1square.vtk", 0, 0.677408, 0.883505),
+    ("plate_3holes_1square.vtk (jittered)", 0, 0.689203, 0.891006),
+    ("plate_6holes_2squares.vtk", 0, 0.565878, 0.913831),
+    ("plate_6holes_2squares.vtk (jittered)", 0, 0.573435, 0.913782),
+    ("plate_8holes.vtk", 0, 0.514866, 0.906285),
+    ("plate_8holes.vtk (jittered)", 0, 0.532263, 0.907543),
+    ("hard: graded anisotropic", 0, 0.014283, 0.534057),
+    ("hard: boundary layer", 0, 0.999943, 0.999997),
+    ("hard: folded layers", 0, 0.999989, 0.999999),
+    ("hard: near-touching slit", 0, 0.945770, 0.998906),
+    ("hard: jittered plate, holes", 0, 0.999635, 0.999990),
+    ("mesquite: tangled/hole_in_square.vtk", 0, 0.089945, 0.687214),
+    ("mesquite: tangled/inverted-hole-1.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: tangled/par_untangle_original_quad_mesh.1.0.vtk", 0, 0.805890, 0.982400),
+    ("mesquite: tangled/par_untangle_original_quad_mesh.2.0.vtk", 0, 0.805890, 0.969893),
+    ("mesquite: tangled/par_untangle_original_quad_mesh.2.1.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: tangled/rotsq.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: tangled/tangled_quad.vtk", 0, 0.999999, 0.999999),
+    ("mesquite: untangled/copy-morph-for-ricoh.cub.vtk", 5429, -1.000000, 0.283808),
+    ("mesquite: untangled/four_more_quads.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: untangled/halfCirc.vtk", 0, 0.844127, 0.994790),
+    ("mesquite: untangled/hole_scheme.vtk", 0, 0.965923, 0.965925),
+    ("mesquite: untangled/hole_scheme_opp_bias.vtk", 0, 0.994130, 0.994137),
+    ("mesquite: untangled/horse20x10_2_4.vtk", 0, 0.762529, 0.888349),
+    ("mesquite: untangled/quad_2_not_xy.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: untangled/quads_4by2.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: untangled/quads_4by2_bad.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: untangled/shashkov_quad.vtk", 0, 0.050000, 0.727982),
+    ("mesquite: untangled/shest_grid32.vtk", 0, 0.429952, 0.958956),
+    ("mesquite: untangled/square_quad_10_rand.vtk", 0, 0.999990, 0.999998),
+    ("mesquite: untangled/square_quad_2.vtk", 0, 1.000000, 1.000000),
+    ("mesquite: untangled/subdiv4x4_3_2_3x3.vtk", 0, 0.711626, 0.894159),
+    ("mesquite: untangled/tangled_quad.vtk", 0, 0.999999, 0.999999),
+    ("mesquite: untangled/tfi_chevron24x24.vtk", 0, 0.707098, 0.832281),
+    ("mesquite: untangled/tfi_horse10x4-12.vtk", 0, 0.987685, 0.987687),
+    ("mesquite: untangled/tfi_horse10x4-14.vtk", 0, 0.676753, 0.817321),
+    ("mesquite: untangled/unstrquad.vtk", 0, 0.569608, 0.931918),
+    ("mesquite: untangled/ybiasqr24x24.vtk", 0, 1.000000, 1.000000),
+];
+
+/// Every mesh of the floor: samples, jittered samples, hard meshes, and Mesquite's if present.
+fn meshes() -> Vec<(String, QuadMesh)> {
+    let mut out = Vec::new();
+    for path in sample_files() {
+        let (name, mesh, _) = load(&path);
+        let optimizer = Optimizer::new(&mesh);
+        let mut base = mesh.clone();
+        let fixed_boundary = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
+        optimizer.run(&mut base, &fixed_boundary, None).unwrap();
+        let shaken = jittered(&base, optimizer.topology(), 0.9, 7);
+        out.push((name.clone(), mesh));
+        out.push((format!("{name} (jittered)"), shaken));
+    }
+    for (name, mesh) in hard_meshes() {
+        out.push((format!("hard: {name}"), mesh));
+    }
+    if let Some(dir) = mesquite() {
+        for sub in ["tangled", "untangled"] {
+            let mut files: Vec<PathBuf> =
+                std::fs::read_dir(dir.join(sub)).unwrap().map(|e| e.unwrap().path()).collect();
+            files.sort();
+            for path in files {
+                let Ok(data) = io::read_mesh(&path) else { continue };
+                let Ok(planar) = PlanarMesh::new(&data) else { continue };
+                let name = format!("mesquite: {sub}/{}", path.file_name().unwrap().to_string_lossy());
+                out.push((name, planar.mesh));
+            }
+        }
+    }
+    out
+}
+
+fn mesquite() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/mesquite");
+    dir.is_dir().then_some(dir)
+}
+
+#[test]
+fn the_default_never_ends_below_the_recorded_floor() {
+    let print = std::env::var_os("QUADOPT_FLOOR_PRINT").is_some();
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    println!(
+        "{:44} {:>7} {:>7} {:>6} {:>16} {:>16}",
+        "mesh", "quads", "ms", "sweeps", "output min/avg", "floor min/avg"
+    );
+    for (name, mut mesh) in meshes() {
+        let report = quadopt::optimize(&mut mesh, &Options::default()).unwrap();
+        let out = report.output;
+        if print {
+            println!("    ({name:?}, {}, {:.6}, {:.6}),", out.inverted, out.min, out.avg);
+            continue;
+        }
+        let floor = FLOOR.iter().find(|f| f.0 == name);
+        println!(
+            "{name:44} {:>7} {:>7.1} {:>6} {:>16} {:>16}",
+            mesh.quads().len(),
+            report.seconds * 1e3,
+            report.iterations,
+            format!("{:.3}/{:.3}", out.min, out.avg),
+            floor.map_or("-".into(), |f| format!("{:.3}/{:.3}", f.2, f.3)),
+        );
+        let Some(&(_, inverted, min, avg)) = floor else {
+            if !name.starts_with("mesquite") {
+                failures.push(format!("{name}: no recorded floor"));
+            }
+            continue;
+        };
+        checked += 1;
+        if out.inverted > inverted || out.min < min - TOLERANCE || out.avg < avg - TOLERANCE {
+            failures.push(format!(
+                "{name}: {} inverted, min {:.6}, avg {:.6}; floor {inverted}, {min:.6}, {avg:.6}",
+                out.inverted, out.min, out.avg
+            ));
+        }
+    }
+    assert!(print || checked >= 29, "only {checked} meshes had a floor");
+    assert!(failures.is_empty(), "{} below the floor:\n{}", failures.len(), failures.join("\n"));
+}

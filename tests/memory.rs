@@ -44,8 +44,23 @@ fn peak_of<R>(f: impl FnOnce() -> R) -> (R, usize) {
     (r, PEAK.load(SeqCst) - start)
 }
 
-/// (name, mesh): a plain grid, a tangled one, one with many holes, and a strip whose every
-/// vertex is on the boundary.
+/// A fan of `n` quads around vertex 0, pushed outside it (as in tests/fans.rs): one vertex of
+/// degree `n`, most quads inverted.
+fn tangled_fan(n: u32) -> QuadMesh {
+    use quadopt::DVec2;
+    use std::f64::consts::TAU;
+    let mut points = vec![DVec2::new(2.0, 0.3)];
+    for i in 0..n {
+        let (a, d) = (TAU * f64::from(i) / f64::from(n), TAU * (f64::from(i) + 0.5) / f64::from(n));
+        points.push(DVec2::new(a.cos(), a.sin()));
+        points.push(DVec2::new(d.cos(), d.sin()) * 1.5);
+    }
+    let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
+    QuadMesh::new(points, quads, None).unwrap()
+}
+
+/// (name, mesh): a plain grid, a tangled one, one with many holes, a strip whose every vertex
+/// is on the boundary, a tangled fan and a tiny grid.
 fn meshes() -> Vec<(&'static str, QuadMesh)> {
     let s = Synthetic { nx: 120, ny: 120, ..Synthetic::default() };
     vec![
@@ -53,6 +68,7 @@ fn meshes() -> Vec<(&'static str, QuadMesh)> {
         ("tangled grid", Synthetic { jitter: 0.45, ..s }.generate()),
         ("holes", Synthetic { holes: 400, ..s }.generate()),
         ("strip", Synthetic { nx: 6000, ny: 1, holes: 0, jitter: 0.0, ..s }.generate()),
+        ("fan", tangled_fan(2000)),
         ("small", Synthetic { nx: 3, ny: 3, holes: 0, ..s }.generate()),
     ]
 }

@@ -754,7 +754,8 @@ pub fn run_bytes(mesh: &QuadMesh) -> u128 {
 /// never written, so it costs address space for a moment, not memory.
 fn check_memory_for(bytes: u128, what: &'static str) -> Result<(), Error> {
     let fail = || Error::OutOfMemory { what, bytes };
-    let probe = try_with_capacity::<u8>(usize::try_from(bytes).map_err(|_| fail())?, what).map_err(|_| fail())?;
+    let probe =
+        try_with_capacity::<u8>(usize::try_from(bytes).map_err(|_| fail())?, what).map_err(|_| fail())?;
     drop(probe);
     Ok(())
 }
@@ -1745,7 +1746,8 @@ mod tests {
     fn optimize_patch(options: &QuadoptOptions) -> (QuadoptStatus, Vec<u64>) {
         let (mut c, quads) = patch(2);
         // SAFETY: live buffers of the stated lengths.
-        let s = unsafe { quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), options, null_mut()) };
+        let s =
+            unsafe { quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), options, null_mut()) };
         (s, bits(&c))
     }
 

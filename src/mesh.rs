@@ -142,7 +142,9 @@ impl QuadMesh {
     pub fn try_quality_values(&self) -> Result<Vec<f64>> {
         let mut values = try_with_capacity(self.quads.len(), "quality values")?;
         values.extend(
-            self.quads.iter().map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(&self.points, q))),
+            self.quads
+                .iter()
+                .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(&self.points, q))),
         );
         Ok(values)
     }

@@ -96,7 +96,8 @@ impl Synthetic {
             }
         }
         let mut index = try_filled(incident.len(), u32::MAX, "grid point indices")?;
-        let mut points = try_with_capacity(incident.iter().filter(|&&n| n > 0).count(), "vertex coordinates")?;
+        let mut points =
+            try_with_capacity(incident.iter().filter(|&&n| n > 0).count(), "vertex coordinates")?;
         let mut rng = Pcg64Mcg::seed_from_u64(self.seed);
         for j in 0..=ny {
             for i in 0..=nx {

@@ -80,7 +80,10 @@ fn topology_and_runs_stay_within_the_memory_checked_for() {
     for (name, mesh) in meshes() {
         let (optimizer, topology) = peak_of(|| Optimizer::new(&mesh));
         let estimate = topology_bytes(&mesh) as usize;
-        assert!(topology <= estimate, "{name}: the topology took {topology} bytes, {estimate} were checked for");
+        assert!(
+            topology <= estimate,
+            "{name}: the topology took {topology} bytes, {estimate} were checked for"
+        );
         worst.0 = worst.0.max(topology as f64 / estimate as f64);
         let mut run_worst = 0;
         for method in Method::ALL {
@@ -99,7 +102,11 @@ fn topology_and_runs_stay_within_the_memory_checked_for() {
             }
         }
         let (v, q, b) = (mesh.points().len(), mesh.quads().len(), mesh.boundary_edge_count());
-        println!("{name}: V {v} Q {q} B {b} topology {topology} ({:.1}/V) run {run_worst} ({:.1}/V)", topology as f64 / v as f64, run_worst as f64 / v as f64);
+        println!(
+            "{name}: V {v} Q {q} B {b} topology {topology} ({:.1}/V) run {run_worst} ({:.1}/V)",
+            topology as f64 / v as f64,
+            run_worst as f64 / v as f64
+        );
     }
     // Report how tight the estimates are (shown with --nocapture).
     println!("largest share of the estimate used: topology {:.2}, run {:.2}", worst.0, worst.1);

@@ -42,7 +42,16 @@ fn optimize(coords: &[f64], quads: &[u32]) -> (QuadoptStatus, Vec<u64>) {
     let mut c = coords.to_vec();
     // SAFETY: live buffers of the stated lengths.
     let s = unsafe {
-        quadopt_optimize(c.as_mut_ptr(), 2, c.len() / 2, quads.as_ptr(), quads.len() / 4, null(), null(), null_mut())
+        quadopt_optimize(
+            c.as_mut_ptr(),
+            2,
+            c.len() / 2,
+            quads.as_ptr(),
+            quads.len() / 4,
+            null(),
+            null(),
+            null_mut(),
+        )
     };
     (s, c.iter().map(|x| x.to_bits()).collect())
 }
@@ -204,7 +213,16 @@ fn a_valid_input_too_large_for_the_address_space_is_an_out_of_memory_status() {
     // SAFETY: live buffers of the stated lengths.
     let statuses = unsafe {
         [
-            quadopt_optimize(coords.as_mut_ptr(), 2, n, quads.as_ptr(), 1, fixed.as_ptr(), null(), null_mut()),
+            quadopt_optimize(
+                coords.as_mut_ptr(),
+                2,
+                n,
+                quads.as_ptr(),
+                1,
+                fixed.as_ptr(),
+                null(),
+                null_mut(),
+            ),
             quadopt_quality(coords.as_ptr(), 2, n, quads.as_ptr(), 1, &mut out, null_mut(), 0),
             quadopt_optimizer_create(coords.as_ptr(), 2, n, quads.as_ptr(), 1, null(), &mut handle),
         ]
@@ -212,7 +230,10 @@ fn a_valid_input_too_large_for_the_address_space_is_an_out_of_memory_status() {
     let message = last_error();
     set_address_space_limit(libc::RLIM_INFINITY);
     assert_eq!(statuses, [QuadoptStatus::OutOfMemory; 3], "{message}");
-    assert!(message.contains("out of memory: cannot allocate 3200000000 bytes for vertex coordinates"), "{message}");
+    assert!(
+        message.contains("out of memory: cannot allocate 3200000000 bytes for vertex coordinates"),
+        "{message}"
+    );
     assert!(handle.is_null() && out == QuadoptQuality::default());
     assert_eq!(coords[2..8], [1.0, 0.0, 1.0, 1.0, 0.0, 1.0]);
     // The synthetic generator (behind `quadopt generate`) fails the same way.
@@ -231,7 +252,8 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
     if !is_child(NAME) {
         // glibc: every block of 64 KiB or more gets its own mapping, returned when freed, and
         // one arena, so that a limit counts what the calls allocate, not what malloc keeps.
-        let tunables = "glibc.malloc.mmap_threshold=65536:glibc.malloc.trim_threshold=65536:glibc.malloc.arena_max=1";
+        let tunables =
+            "glibc.malloc.mmap_threshold=65536:glibc.malloc.trim_threshold=65536:glibc.malloc.arena_max=1";
         return run_in_child_with(NAME, &[("GLIBC_TUNABLES", tunables)]);
     }
     let (coords, quads) = jittered_grid(150);
@@ -246,7 +268,8 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
     assert_eq!(optimize(&mut expected), QuadoptStatus::Ok, "{}", last_error());
     let mut handle = null_mut();
     // SAFETY: live buffers; `handle` receives a pointer.
-    let s = unsafe { quadopt_optimizer_create(coords.as_ptr(), 2, v, quads.as_ptr(), q, null(), &mut handle) };
+    let s =
+        unsafe { quadopt_optimizer_create(coords.as_ptr(), 2, v, quads.as_ptr(), q, null(), &mut handle) };
     assert_eq!(s, QuadoptStatus::Ok);
     let mut quality = QuadoptQuality::default();
     // SAFETY: live buffers.

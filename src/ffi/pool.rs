@@ -16,9 +16,9 @@
 
 use rayon::{ThreadBuilder, ThreadPool, ThreadPoolBuilder};
 use std::sync::atomic::{AtomicPtr, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, TryRecvError};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The pool of one process.
 struct ProcessPool {
@@ -34,7 +34,8 @@ static SHARED: AtomicPtr<ProcessPool> = AtomicPtr::new(std::ptr::null_mut());
 /// Test hook: how many threads one pool may start (the next one fails as under a thread
 /// limit), without touching process limits.
 #[cfg(test)]
-pub(super) static THREAD_LIMIT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(usize::MAX);
+pub(super) static THREAD_LIMIT: std::sync::atomic::AtomicUsize =
+    std::sync::atomic::AtomicUsize::new(usize::MAX);
 
 /// The threads could not be started; the message says why.
 #[derive(Debug)]
@@ -62,7 +63,7 @@ pub(super) fn run_with_progress<P: Send, R: Send>(
                 // `report` is dropped here (or while unwinding): the caller's loop ends.
             });
             // If `on_progress` unwinds, `answer` is dropped and the waiting job sees false.
-            while let Ok(p) = reports.recv() {
+            while let Some(p) = receive(&reports) {
                 if answer.send(on_progress(p)).is_err() {
                     break;
                 }
@@ -73,10 +74,37 @@ pub(super) fn run_with_progress<P: Send, R: Send>(
     })
 }
 
-/// Waits for the caller's answer to a progress report. A callback that calls quadopt again
-/// needs a worker while this one waits, so after a millisecond without an answer this worker
-/// runs pending pool work (a pool of one thread would otherwise deadlock).
+/// Polls `rx` for a moment: the other side (a short callback, a sweep of a small mesh) usually
+/// answers within microseconds, and waking a sleeping thread costs more than that.
+fn poll_briefly<T>(rx: &Receiver<T>) -> Result<T, TryRecvError> {
+    let until = Instant::now() + Duration::from_micros(50);
+    loop {
+        match rx.try_recv() {
+            Err(TryRecvError::Empty) if Instant::now() < until => std::thread::yield_now(),
+            other => return other,
+        }
+    }
+}
+
+/// The next message, or `None` once the sender is gone.
+fn receive<T>(rx: &Receiver<T>) -> Option<T> {
+    match poll_briefly(rx) {
+        Ok(message) => Some(message),
+        Err(TryRecvError::Disconnected) => None,
+        Err(TryRecvError::Empty) => rx.recv().ok(),
+    }
+}
+
+/// Waits for the caller's answer to a progress report (false once the caller is gone). A
+/// callback that calls quadopt again needs a worker while this one waits, so after a
+/// millisecond without an answer this worker runs pending pool work (a pool of one thread
+/// would otherwise deadlock).
 fn wait_for_answer(answers: &Receiver<bool>) -> bool {
+    match poll_briefly(answers) {
+        Ok(go) => return go,
+        Err(TryRecvError::Disconnected) => return false,
+        Err(TryRecvError::Empty) => {}
+    }
     loop {
         match answers.recv_timeout(Duration::from_millis(1)) {
             Ok(go) => return go,
@@ -91,7 +119,8 @@ fn with_pool<R>(f: impl FnOnce(&ThreadPool) -> R) -> Result<R, NoThreads> {
     if let Some(pool) = shared() {
         return Ok(f(pool));
     }
-    let (pool, threads) = build(Some(1)).map_err(|e| NoThreads(format!("cannot start a worker thread: {e}")))?;
+    let (pool, threads) =
+        build(Some(1)).map_err(|e| NoThreads(format!("cannot start a worker thread: {e}")))?;
     // Stopped and joined when `f` returns or unwinds, so nothing outlives the call.
     let single = Joined { pool: Some(pool), threads };
     Ok(f(single.pool.as_ref().expect("set above")))

@@ -319,3 +319,51 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
     // SAFETY: created above.
     unsafe { quadopt_optimizer_free(handle) };
 }
+
+/// `quadopt generate` with grids too large for the indices or for the memory: a one-line error
+/// and exit status 1, not an abort or a panic.
+#[test]
+fn generate_refuses_grids_too_large_with_one_line() {
+    use std::os::unix::process::CommandExt;
+    let out = std::env::temp_dir().join(format!("quadopt-process-{}.obj", std::process::id()));
+    let run = |args: &[&str], address_space: Option<libc::rlim_t>| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_quadopt"));
+        cmd.arg("generate").arg("-o").arg(&out).args(args);
+        if let Some(bytes) = address_space {
+            // SAFETY: only an async-signal-safe system call between fork and exec.
+            unsafe {
+                cmd.pre_exec(move || {
+                    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+                    if libc::getrlimit(libc::RLIMIT_AS, &mut limit) != 0 {
+                        return Err(std::io::Error::last_os_error());
+                    }
+                    limit.rlim_cur = bytes.min(limit.rlim_max);
+                    if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                        return Err(std::io::Error::last_os_error());
+                    }
+                    Ok(())
+                });
+            }
+        }
+        let o = cmd.output().unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    for (args, limit, expected) in [
+        (
+            &["--quads", "100000000000"][..],
+            None,
+            "quadopt: error: invalid option grid size: a 352749 x 352749 grid",
+        ),
+        (&["--nx", "4294967295", "--ny", "4294967295"][..], None, "more than uint32 indices can number"),
+        (
+            &["--nx", "20000", "--ny", "20000"][..],
+            Some(400 << 20),
+            "quadopt: error: out of memory: cannot allocate",
+        ),
+    ] {
+        let (code, stderr) = run(args, limit);
+        assert_eq!(code, Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
+    }
+    assert!(!out.exists(), "nothing is written on an error");
+}

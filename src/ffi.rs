@@ -13,9 +13,10 @@
 //!   and the optimizer need at their peak is available before they start (their allocations,
 //!   rayon's among them, are not all fallible), so a mesh too large for the memory gives
 //!   [`QuadoptStatus::OutOfMemory`] instead of aborting the host;
-//! - runs the optimizer on the library's own worker threads ([`pool`]), which survive `fork`;
+//! - runs the optimizer on the library's own worker threads (`ffi/pool.rs`), which survive
+//!   `fork`;
 //! - records a detailed message (which quad, which index, which option) in a thread-local
-//!   buffer read by [`quadopt_last_error`], and prints nothing ([`quiet`]). The only other
+//!   buffer read by [`quadopt_last_error`], and prints nothing (`ffi/quiet.rs`). The only other
 //!   global state is the worker pool.
 //!
 //! Enum-valued option fields are plain `u32` in the structs (a C caller can store any integer

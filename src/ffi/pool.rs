@@ -69,7 +69,7 @@ pub(super) fn run_with_progress<P: Send, R: Send>(
                 }
             }
         });
-        // The scope re-raised a panic of the job, so the job completed and filled the slot.
+        // Had the job panicked, the scope would have re-raised it: it completed and filled the slot.
         result.expect("the job completed")
     })
 }

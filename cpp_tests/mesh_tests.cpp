@@ -12,7 +12,11 @@
 // - the Rust CLI (`quadopt optimize IN -o OUT --json`) gives bit for bit the same coordinates
 //   and the same report numbers for the same file and options.
 //
-// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --non-quad)
+// With --planes: meshes in a tilted plane (z = x + y) and in x = const are optimized in their
+// plane (they stay in it to 1e-12 of the extent, quality improves, the result equals the
+// CLI's bit for bit), and a curved mesh throws quadopt::NotPlanar naming its farthest vertex.
+//
+// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --non-quad or --planes)
 #include "test_support.hpp"
 
 #include <quadopt.h>
@@ -29,6 +33,8 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <cmath>
+#include <cstdio>
+#include <type_traits>
 #include <set>
 #include <string>
 #include <vector>
@@ -557,6 +563,325 @@ void test_non_quad() {
   CHECK_THROWS_STATUS(quadopt::cgal::optimize(psm, quadopt::Options().max_iterations(0)), QUADOPT_STATUS_INVALID_OPTION);
 }
 
+// --- Meshes in other planes (issue 8, item 9) ------------------------------------------------
+
+/// An n x n grid of unit cells in 2D (s, t) with its interior vertices jittered by up to
+/// `amount` (a fixed pseudo-random sequence), and its quads.
+struct Grid2 {
+  int n = 0;
+  std::vector<double> st;
+  std::vector<std::uint32_t> quads;
+  std::size_t vertices() const { return st.size() / 2; }
+  bool is_corner(std::size_t v) const {
+    const std::size_t i = v % (n + 1), j = v / (n + 1);
+    return (i == 0 || i == static_cast<std::size_t>(n)) && (j == 0 || j == static_cast<std::size_t>(n));
+  }
+  bool on_boundary(std::size_t v) const {
+    const std::size_t i = v % (n + 1), j = v / (n + 1);
+    return i == 0 || j == 0 || i == static_cast<std::size_t>(n) || j == static_cast<std::size_t>(n);
+  }
+};
+
+Grid2 jittered_st(int n, double amount) {
+  Grid2 g;
+  g.n = n;
+  std::uint64_t state = 12345;
+  auto next = [&state]() {  // in [-1, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 52) - 1.0;
+  };
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const bool interior = i > 0 && j > 0 && i < n && j < n;
+      const double ds = amount * next(), dt = amount * next();
+      g.st.push_back(i + (interior ? ds : 0.0));
+      g.st.push_back(j + (interior ? dt : 0.0));
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = static_cast<std::uint32_t>(j * (n + 1) + i);
+      const std::uint32_t w = static_cast<std::uint32_t>(n) + 1;
+      g.quads.insert(g.quads.end(), {a, a + 1, a + w + 1, a + w});
+    }
+  }
+  return g;
+}
+
+/// The grid mapped into 3D by `f(s, t, out)`: x, y, z per vertex.
+template <class F>
+std::vector<double> embed(const Grid2 &g, F f) {
+  std::vector<double> xyz(3 * g.vertices());
+  for (std::size_t v = 0; v < g.vertices(); ++v) f(g.st[2 * v], g.st[2 * v + 1], &xyz[3 * v]);
+  return xyz;
+}
+
+template <class M>
+M openmesh_from(const std::vector<double> &xyz, const std::vector<std::uint32_t> &quads) {
+  M m;
+  using Scalar = std::decay_t<decltype(std::declval<typename M::Point &>()[0])>;
+  std::vector<typename M::VertexHandle> vh;
+  for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+    vh.push_back(m.add_vertex(typename M::Point(static_cast<Scalar>(xyz[3 * i]), static_cast<Scalar>(xyz[3 * i + 1]),
+                                                static_cast<Scalar>(xyz[3 * i + 2]))));
+  }
+  for (std::size_t q = 0; q < quads.size() / 4; ++q) {
+    m.add_face(std::vector<typename M::VertexHandle>{vh[quads[4 * q]], vh[quads[4 * q + 1]], vh[quads[4 * q + 2]],
+                                                     vh[quads[4 * q + 3]]});
+  }
+  return m;
+}
+
+template <class M>
+std::vector<double> openmesh_points(const M &m) {
+  std::vector<double> xyz;
+  for (auto v : m.vertices()) {
+    const auto &p = m.point(v);
+    xyz.insert(xyz.end(), {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])});
+  }
+  return xyz;
+}
+
+SM3 cgal_from(const std::vector<double> &xyz, const std::vector<std::uint32_t> &quads) {
+  SM3 sm;
+  for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+    sm.add_vertex(K::Point_3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
+  }
+  for (std::size_t q = 0; q < quads.size() / 4; ++q) {
+    using V = SM3::Vertex_index;
+    sm.add_face(V(quads[4 * q]), V(quads[4 * q + 1]), V(quads[4 * q + 2]), V(quads[4 * q + 3]));
+  }
+  return sm;
+}
+
+std::vector<double> cgal_points(const SM3 &sm) {
+  std::vector<double> xyz;
+  for (auto v : sm.vertices()) xyz.insert(xyz.end(), {sm.point(v).x(), sm.point(v).y(), sm.point(v).z()});
+  return xyz;
+}
+
+/// Distance from p to the segment [a, b] in 3D.
+double distance3(const double *p, const double *a, const double *b) {
+  double d[3], w[3];
+  double dd = 0, wd = 0;
+  for (int c = 0; c < 3; ++c) {
+    d[c] = b[c] - a[c];
+    w[c] = p[c] - a[c];
+    dd += d[c] * d[c];
+    wd += w[c] * d[c];
+  }
+  const double t = dd > 0 ? std::fmin(1.0, std::fmax(0.0, wd / dd)) : 0.0;
+  double r = 0;
+  for (int c = 0; c < 3; ++c) r += (w[c] - t * d[c]) * (w[c] - t * d[c]);
+  return std::sqrt(r);
+}
+
+/// The grid's boundary loop (vertex indices, in order).
+std::vector<std::uint32_t> grid_boundary(const Grid2 &g) {
+  std::vector<std::uint32_t> loop;
+  const std::uint32_t n = static_cast<std::uint32_t>(g.n), w = n + 1;
+  for (std::uint32_t i = 0; i < n; ++i) loop.push_back(i);
+  for (std::uint32_t j = 0; j < n; ++j) loop.push_back(j * w + n);
+  for (std::uint32_t i = n; i > 0; --i) loop.push_back(n * w + i);
+  for (std::uint32_t j = n; j > 0; --j) loop.push_back(j * w);
+  return loop;
+}
+
+/// What a result in the plane z = x + y must satisfy: every vertex within `tol` (relative to
+/// the extent) of the plane and of the original boundary (boundary vertices), corners
+/// bit-identical, something moved.
+void check_tilted(const std::string &tag, const Grid2 &g, const std::vector<double> &before,
+                  const std::vector<double> &after, double extent, double tol) {
+  double off_plane = 0;
+  bool corners_same = true;
+  std::size_t moved = 0;
+  for (std::size_t v = 0; v < g.vertices(); ++v) {
+    const double *p = &after[3 * v];
+    off_plane = std::fmax(off_plane, std::fabs(p[2] - p[0] - p[1]) / std::sqrt(3.0));
+    const bool same = qt::same_bits(p[0], before[3 * v]) && qt::same_bits(p[1], before[3 * v + 1]) &&
+                      qt::same_bits(p[2], before[3 * v + 2]);
+    if (g.is_corner(v)) corners_same = corners_same && same;
+    moved += same ? 0 : 1;
+  }
+  CHECK_MSG(off_plane <= tol * extent,
+            tag << ": a vertex is " << off_plane / extent << " (relative) off the plane z = x + y");
+  CHECK_MSG(corners_same, tag << ": a corner moved");
+  CHECK_MSG(moved > 0, tag << ": nothing moved");
+  const auto loop = grid_boundary(g);
+  double worst = 0;
+  for (auto v : loop) {
+    double d = HUGE_VAL;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      d = std::fmin(d, distance3(&after[3 * v], &before[3 * loop[i]], &before[3 * loop[(i + 1) % loop.size()]]));
+    }
+    worst = std::fmax(worst, d);
+  }
+  CHECK_MSG(worst <= tol * extent,
+            tag << ": a boundary vertex is " << worst / extent << " (relative) off the boundary");
+}
+
+void write_obj(const std::string &path, const std::vector<double> &xyz, const std::vector<std::uint32_t> &quads) {
+  std::FILE *f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+    std::fprintf(f, "v %.17g %.17g %.17g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  }
+  for (std::size_t q = 0; q < quads.size() / 4; ++q) {
+    const std::uint32_t *c = &quads[4 * q];
+    std::fprintf(f, "f %u %u %u %u\n", c[0] + 1, c[1] + 1, c[2] + 1, c[3] + 1);
+  }
+  std::fclose(f);
+}
+
+void test_tilted_plane() {
+  const Grid2 g = jittered_st(8, 0.35);
+  const auto tilted = [](double s, double t, double *p) {
+    p[0] = s;
+    p[1] = t;
+    p[2] = s + t;
+  };
+  const std::vector<double> xyz = embed(g, tilted);
+  const double extent = 8.0 * std::sqrt(3.0);
+
+  // OpenMesh, double points: in the plane, better in the plane's own metric.
+  OMeshD om = openmesh_from<OMeshD>(xyz, g.quads);
+  const quadopt::Quality q0 = quadopt::openmesh::quality(om);
+  const quadopt::Report r = quadopt::openmesh::optimize(om);
+  const quadopt::Quality q1 = quadopt::openmesh::quality(om);
+  const std::vector<double> om_out = openmesh_points(om);
+  check_tilted("OpenMesh double, z = x + y", g, xyz, om_out, extent, 1e-12);
+  CHECK_MSG(q0.inverted > 0 && q1.inverted == 0 && q1.min > 0.5 && q1.avg > q0.avg,
+            "tilted plane: quality " << q0.min << "/" << q0.avg << " -> " << q1.min << "/" << q1.avg);
+  CHECK_MSG(std::fabs(r.output.min - q1.min) < 1e-12 && std::fabs(r.input.min - q0.min) < 1e-12,
+            "tilted plane: report " << r.input.min << " -> " << r.output.min << ", measured " << q0.min << " -> "
+                                    << q1.min);
+
+  // The same as the command-line tool, bit for bit.
+  const std::string in = g_tmp + "/tilted_in.obj", out = g_tmp + "/tilted_out.obj";
+  write_obj(in, xyz, g.quads);
+  std::remove(out.c_str());
+  const int rc = qt::run("\"" + g_cli + "\" optimize \"" + in + "\" -o \"" + out + "\"", g_tmp + "/tilted.log");
+  CHECK_MSG(rc == 0, "the CLI failed on the tilted mesh");
+  if (rc == 0) {
+    const qt::Mesh cli = qt::read_obj(out);
+    CHECK_MSG(qt::same_bits(cli.xyz, om_out), "tilted plane: the OpenMesh adapter differs from the CLI at coordinate "
+                                                  << qt::first_difference(cli.xyz, om_out));
+  }
+
+  // CGAL Point_3: the same result.
+  SM3 sm = cgal_from(xyz, g.quads);
+  quadopt::cgal::optimize(sm);
+  CHECK_MSG(qt::same_bits(cgal_points(sm), om_out), "tilted plane: CGAL differs from OpenMesh");
+  CHECK(std::fabs(quadopt::cgal::quality(sm).min - q1.min) < 1e-12);
+
+  // OpenMesh, float points: moved vertices rounded to float, so within float precision.
+  OMeshF fm = openmesh_from<OMeshF>(xyz, g.quads);
+  const std::vector<double> fxyz = openmesh_points(fm);
+  quadopt::openmesh::optimize(fm);
+  check_tilted("OpenMesh float, z = x + y", g, fxyz, openmesh_points(fm), extent, 1e-6);
+
+  // At 1e150 and 1e-150 the same result, relative to the scale.
+  for (double scale : {1e150, 1e-150}) {
+    std::vector<double> big = xyz;
+    for (auto &c : big) c *= scale;
+    OMeshD bm = openmesh_from<OMeshD>(big, g.quads);
+    quadopt::openmesh::optimize(bm);
+    const auto got = openmesh_points(bm);
+    check_tilted("OpenMesh double, z = x + y, scaled", g, big, got, extent * scale, 1e-12);
+    double worst = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) worst = std::fmax(worst, std::fabs(got[i] / scale - om_out[i]));
+    CHECK_MSG(worst <= 1e-9, "tilted plane x" << scale << ": " << worst << " (relative) from the unit-scale result");
+  }
+}
+
+void test_axis_planes() {
+  // The plane x = 3: y and z are the 2D coordinates, exactly; x is never touched.
+  const Grid2 g = jittered_st(6, 0.3);
+  const std::vector<double> xyz = embed(g, [](double s, double t, double *p) {
+    p[0] = 3.0;
+    p[1] = s;
+    p[2] = t;
+  });
+  OMeshD om = openmesh_from<OMeshD>(xyz, g.quads);
+  quadopt::openmesh::optimize(om);
+  SM3 sm = cgal_from(xyz, g.quads);
+  quadopt::cgal::optimize(sm);
+  std::vector<double> want = g.st;
+  quadopt::optimize(want, 2, g.quads);
+  bool same = true;
+  const auto got = openmesh_points(om), got_cgal = cgal_points(sm);
+  for (std::size_t v = 0; v < g.vertices(); ++v) {
+    same = same && got[3 * v] == 3.0 && qt::same_bits(got[3 * v + 1], want[2 * v]) &&
+           qt::same_bits(got[3 * v + 2], want[2 * v + 1]);
+  }
+  CHECK_MSG(same, "plane x = 3: the OpenMesh adapter is not the 2D optimization of (y, z)");
+  CHECK_MSG(qt::same_bits(got, got_cgal), "plane x = 3: CGAL differs from OpenMesh");
+}
+
+/// `fn` must throw NotPlanar naming a vertex for which `expected` holds, in its message too.
+template <class Fn, class Expected>
+void expect_not_planar(const std::string &what, Fn fn, Expected expected) {
+  bool thrown = false;
+  std::string message = "no exception";
+  try {
+    fn();
+  } catch (const quadopt::NotPlanar &e) {
+    message = e.what();
+    thrown = e.status() == QUADOPT_STATUS_NOT_PLANAR && expected(e.vertex()) && e.distance() > e.tolerance() &&
+             message.find("not planar") != std::string::npos &&
+             message.find("vertex " + std::to_string(e.vertex()) + " ") != std::string::npos;
+  } catch (const std::exception &e) {
+    message = e.what();
+  }
+  CHECK_MSG(thrown, what << ": expected NotPlanar naming the right vertex, got: " << message);
+}
+
+void test_curved() {
+  const Grid2 g = jittered_st(6, 0.2);
+  // A paraboloid cap: the best-fit plane is horizontal (by symmetry) at the mean height, about
+  // 0.4 above the centre and 0.5 below the corners, so a corner is the farthest vertex.
+  const std::vector<double> xyz = embed(g, [](double s, double t, double *p) {
+    p[0] = s;
+    p[1] = t;
+    p[2] = 0.05 * ((s - 3) * (s - 3) + (t - 3) * (t - 3));
+  });
+  const auto corner = [&g](std::size_t v) { return g.is_corner(v); };
+  OMeshD om = openmesh_from<OMeshD>(xyz, g.quads);
+  expect_not_planar("OpenMesh, paraboloid", [&] { quadopt::openmesh::optimize(om); }, corner);
+  CHECK_MSG(qt::same_bits(openmesh_points(om), xyz), "OpenMesh: a rejected mesh was changed");
+  CHECK_THROWS_STATUS(quadopt::openmesh::quality(om), QUADOPT_STATUS_NOT_PLANAR);
+  SM3 sm = cgal_from(xyz, g.quads);
+  expect_not_planar("CGAL, paraboloid", [&] { quadopt::cgal::optimize(sm); }, corner);
+  CHECK_MSG(qt::same_bits(cgal_points(sm), xyz), "CGAL: a rejected mesh was changed");
+  CHECK_THROWS_STATUS(quadopt::cgal::quality(sm), QUADOPT_STATUS_NOT_PLANAR);
+
+  // One vertex 1e-4 of the diagonal off the tilted plane: rejected, naming it; 1e-7 (as in
+  // float files): accepted.
+  const std::vector<double> flat = embed(g, [](double s, double t, double *p) {
+    p[0] = s;
+    p[1] = t;
+    p[2] = s + t;
+  });
+  const double diag = 6.0 * std::sqrt(3.0);
+  const std::size_t bumped = 2 * 7 + 4;
+  std::vector<double> bump = flat;
+  bump[3 * bumped + 2] += 1e-4 * diag;
+  OMeshD bm = openmesh_from<OMeshD>(bump, g.quads);
+  expect_not_planar("OpenMesh, one vertex off the plane", [&] { quadopt::openmesh::optimize(bm); },
+                    [bumped](std::size_t v) { return v == bumped; });
+  std::vector<double> noise = flat;
+  noise[3 * bumped + 2] += 1e-7 * diag;
+  OMeshD nm = openmesh_from<OMeshD>(noise, g.quads);
+  bool accepted = true;
+  try {
+    quadopt::openmesh::optimize(nm);
+  } catch (const std::exception &e) {
+    accepted = false;
+    std::cerr << e.what() << "\n";
+  }
+  CHECK_MSG(accepted, "a mesh 1e-7 of its diagonal off its plane is rejected");
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -571,6 +896,10 @@ int main(int argc, char **argv) {
   try {
     if (which == "--non-quad") {
       test_non_quad();
+    } else if (which == "--planes") {
+      test_tilted_plane();
+      test_axis_planes();
+      test_curved();
     } else {
       const Case c = load_case(which);
       CHECK(c.n() > 0 && c.nq() > 0 && !c.cycles.empty() && !c.corners.empty());

@@ -612,6 +612,7 @@ fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         untangle: o.untangle != 0,
         keep_best: o.keep_best != 0,
         max_boundary_deviation,
+        max_min: true,
     };
     options.validate()?;
     Ok(options)

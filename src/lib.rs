@@ -36,6 +36,7 @@ pub mod features;
 pub mod ffi;
 pub mod io;
 pub mod mesh;
+pub mod normalization;
 pub mod quality;
 pub mod smooth;
 pub mod synthetic;

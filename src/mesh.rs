@@ -209,8 +209,10 @@ fn sorted_edges(quads: &[[u32; 4]]) -> Result<(Vec<EdgeRecord>, usize)> {
     Ok((edges, boundary))
 }
 
-fn signed_area(points: &[DVec2], q: &[u32; 4]) -> f64 {
-    let p = crate::quality::corners(points, q);
+/// Signed area of a quad whose corners are scaled by `2^scale` (exact, so the sign is that of
+/// the true area; the scale keeps the products from overflowing or underflowing).
+fn signed_area(points: &[DVec2], q: &[u32; 4], scale: i32) -> f64 {
+    let p = crate::quality::corners(points, q).map(|p| crate::normalization::scale_point(p, scale));
     // Shoelace formula; a quad's doubled area is the cross product of its diagonals.
     0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
 }
@@ -289,6 +291,13 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
         // Reverse the minority, so "reoriented" lists as few quads as possible.
         let flipped = component.iter().filter(|&&q| flip[q as usize] == 1).count();
         let minority = u8::from(flipped * 2 <= component.len());
+        // Areas on coordinates scaled so the component's largest is in [1, 2): the sum's sign
+        // is right at any scale.
+        let largest = component
+            .iter()
+            .flat_map(|&q| quads[q as usize])
+            .fold(0.0f64, |m, v| m.max(points[v as usize].abs().max_element()));
+        let scale = if largest > 0.0 { -crate::normalization::binary_exponent(largest) } else { 0 };
         let mut area = 0.0;
         for &q in &component {
             let q = q as usize;
@@ -296,7 +305,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
                 quads[q] = reversed(quads[q]);
                 try_push(&mut reoriented, q as u32, "reoriented quads")?;
             }
-            area += signed_area(points, &quads[q]);
+            area += signed_area(points, &quads[q], scale);
         }
         if area < 0.0 {
             any_clockwise = true;

@@ -7,6 +7,7 @@
 //! Verdict's value for every counter-clockwise quad that is not folded; a corner turning the
 //! wrong way makes the quad inverted (negative) even when the quad is convex.
 
+use crate::normalization::{scale_point, unit_exponent};
 use glam::DVec2;
 
 /// Verdict (VTK 9.x) treats an edge as degenerate (quad value 0) when it is shorter than
@@ -14,16 +15,21 @@ use glam::DVec2;
 /// quad (measured against VTK 9.7.2's vtkMeshQuality, see tests/verdict.rs).
 const DEGENERATE_EDGE_RELATIVE: f64 = 10.0 * f64::EPSILON;
 
-/// Verdict's absolute cut-off for a collapsed quad measured as a triangle.
+/// Verdict's cut-off for a collapsed quad measured as a triangle, applied to edges scaled so
+/// the largest component is in [1, 2) (Verdict applies it to the absolute edge lengths).
 const DEGENERATE_TRIANGLE: f64 = 1.0e-30;
 
 /// Signed scaled Jacobian at corner `p` of a quad, with `prev` and `next` its neighbours in
-/// counter-clockwise order: cross(next - p, prev - p) / (|next - p| |prev - p|).
+/// counter-clockwise order: cross(next - p, prev - p) / (|next - p| |prev - p|), in [-1, 1].
 ///
 /// Returns 0 when one of the two edges is degenerate: zero, or shorter than
 /// 10 f64::EPSILON times the longer one (the corner analogue of Verdict's relative test).
+/// Computed on the three points scaled by a power of two (exact), so it is the same at any
+/// finite scale.
 #[inline]
 pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
+    let e = -unit_exponent(&[prev, p, next]);
+    let (prev, p, next) = (scale_point(prev, e), scale_point(p, e), scale_point(next, e));
     let e1 = next - p;
     let e2 = prev - p;
     let (l1, l2) = (e1.length(), e2.length());
@@ -31,7 +37,7 @@ pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
     if l1 == 0.0 || l2 == 0.0 || l1 < short || l2 < short {
         return 0.0;
     }
-    e1.perp_dot(e2) / (l1 * l2)
+    (e1.perp_dot(e2) / (l1 * l2)).clamp(-1.0, 1.0)
 }
 
 /// Scaled Jacobian of a quad whose corners are given counter-clockwise (the mesh's "up" side).
@@ -39,15 +45,23 @@ pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
 /// The minimum over the four corners of the signed cross product of the normalized edge
 /// vectors; in `[-1, 1]`, 1 for a square, negative for an inverted quad. Degenerate edges give
 /// 0 (an edge shorter than 10 f64::EPSILON times the bounding-box diagonal, Verdict's
-/// relative test), and a quad collapsed to a triangle (last two corners identical) is measured as that
-/// triangle, exactly as Verdict's `quad_scaled_jacobian` does.
+/// relative test), and a quad collapsed to a triangle (last two corners identical) is measured
+/// as that triangle, as Verdict's `quad_scaled_jacobian` does.
+///
+/// Scale-free: the corners are first scaled by a power of two (exact) so that the largest
+/// coordinate is in [1, 2), so no edge length or product overflows or underflows for any
+/// finite coordinates, and a quad scaled by `2^s` gets the same value bit for bit.
 ///
 /// ```
 /// use glam::DVec2;
 /// let square = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
 /// assert!((quadopt::quality::scaled_jacobian(&square) - 1.0).abs() < 1e-15);
+/// let huge = square.map(|p| p * 1e300);
+/// assert!((quadopt::quality::scaled_jacobian(&huge) - 1.0).abs() < 1e-15);
 /// ```
 pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
+    let e = -unit_exponent(q);
+    let q = q.map(|p| scale_point(p, e));
     if q[3] == q[2] {
         return triangle_scaled_jacobian(q[0], q[1], q[2]);
     }
@@ -67,13 +81,21 @@ pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
         let j = (i + 3) % 4;
         min = min.min(e[j].perp_dot(e[i]) / (len[i] * len[j]));
     }
-    min
+    // |cross| <= product of the lengths, up to rounding.
+    min.clamp(-1.0, 1.0)
 }
 
 /// Verdict's triangle scaled Jacobian (signed against +z): twice the area over the largest
 /// product of two edge lengths, scaled by 2/sqrt(3) so an equilateral triangle scores 1.
+///
+/// Verdict returns 0 below an absolute cut-off (a largest product under 1e-30); here the
+/// edges are first scaled by a power of two so that the longest is in [1, 2), which leaves
+/// the largest product at least 1/2 unless the triangle is collapsed to a point: the result
+/// does not depend on the scale.
 fn triangle_scaled_jacobian(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     let (e0, e1, e2) = (b - a, c - b, a - c);
+    let s = -unit_exponent(&[e0, e1, e2]);
+    let (e0, e1, e2) = (scale_point(e0, s), scale_point(e1, s), scale_point(e2, s));
     let (l0, l1, l2) = (e0.length(), e1.length(), e2.length());
     let max_product = (l0 * l2).max(l0 * l1).max(l1 * l2);
     if max_product < DEGENERATE_TRIANGLE {

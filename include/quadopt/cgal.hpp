@@ -8,9 +8,13 @@
 //   quadopt::Report r = quadopt::cgal::optimize(mesh);   // throws quadopt::Error
 //
 // Points may be Point_2 or Point_3 of any kernel (exact ones are converted with
-// CGAL::to_double and written back from doubles). With Point_3 the mesh must lie in a plane
-// z = const: x and y are optimized and z is kept. Only vertices whose position changed are
-// written back, so fixed vertices, corners and vertices that did not move stay bit-identical.
+// CGAL::to_double and written back from doubles). A Point_3 mesh may lie in any plane, as
+// with the command-line tool (see quadopt/planar.hpp): in a plane x, y or z = const the other
+// two coordinates are optimized and the constant one is kept; in a tilted plane the mesh is
+// optimized in an orthonormal frame of its best-fit plane and moved vertices are written back
+// onto that plane. A mesh that is not planar throws quadopt::NotPlanar and is left unchanged.
+// Only vertices whose position changed are written back, so fixed vertices, corners and
+// vertices that did not move stay bit-identical.
 //
 // Fixed vertices: a vertex property map of bool named MeshOptions::fixed_property ("v:fixed"
 // by default), if the mesh has one; true means the vertex never moves. Removed (garbage)
@@ -20,6 +24,7 @@
 #define QUADOPT_CGAL_HPP
 
 #include "../quadopt.hpp"
+#include "planar.hpp"
 
 #include <CGAL/Dimension.h>
 #include <CGAL/Kernel_traits.h>
@@ -49,12 +54,15 @@ template <class P>
 struct Arrays {
   /// The mesh's vertices, in the order of `xy`.
   std::vector<typename CGAL::Surface_mesh<P>::Vertex_index> vertices;
-  /// x, y of every vertex.
+  /// The 2D coordinates of every vertex in the mesh's plane (x, y for Point_2 and for a
+  /// Point_3 mesh in a plane z = const).
   std::vector<double> xy;
   /// 4 indices into `vertices` per face, in the mesh's face order.
   std::vector<std::uint32_t> quads;
   /// One flag per vertex (nonzero: fixed); empty when no vertex is fixed.
   std::vector<std::uint8_t> fixed;
+  /// The mesh's plane and the 2D frame of `xy` in it (z = 0 for Point_2).
+  planar::Frame frame;
 };
 
 namespace detail {
@@ -83,20 +91,31 @@ bool find_fixed_map(const CGAL::Surface_mesh<P> &mesh, const std::string &name,
 #endif
 }
 
+/// `p` with the coordinates of the plane point `q` (in doubles) in place of those that the
+/// frame's 2D coordinates come from; a constant coordinate of an axis-aligned plane is kept as
+/// it is (exactly, in the kernel's number type).
 template <class P>
-P with_xy(const P &p, double x, double y) {
+P with_plane_point(const P &p, const double q[3], const planar::Frame &frame) {
   using FT = typename CGAL::Kernel_traits<P>::Kernel::FT;
   if constexpr (CGAL::Ambient_dimension<P>::value == 2) {
     (void)p;
-    return P(FT(x), FT(y));
+    (void)frame;
+    return P(FT(q[0]), FT(q[1]));
   } else {
-    return P(FT(x), FT(y), p.z());
+    FT c[3] = {p.x(), p.y(), p.z()};
+    for (int k = 0; k < 3; ++k) {
+      if (k != frame.axis()) {
+        c[k] = FT(q[k]);
+      }
+    }
+    return P(c[0], c[1], c[2]);
   }
 }
 
 }  // namespace detail
 
-/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad.
+/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad and
+/// NotPlanar on a Point_3 mesh that does not lie in a plane.
 template <class P>
 Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = MeshOptions()) {
   using Mesh = CGAL::Surface_mesh<P>;
@@ -110,15 +129,22 @@ Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = M
   // compact position in `a.vertices`.
   std::vector<std::uint32_t> compact(mesh.num_vertices(), 0);
   a.vertices.reserve(n);
-  a.xy.reserve(2 * n);
+  std::vector<double> xyz;
+  xyz.reserve(3 * n);
   for (V v : mesh.vertices()) {
     compact[static_cast<std::size_t>(v)] = static_cast<std::uint32_t>(a.vertices.size());
     a.vertices.push_back(v);
     const P &p = mesh.point(v);
-    a.xy.push_back(CGAL::to_double(p.x()));
-    a.xy.push_back(CGAL::to_double(p.y()));
+    xyz.push_back(CGAL::to_double(p.x()));
+    xyz.push_back(CGAL::to_double(p.y()));
+    if constexpr (CGAL::Ambient_dimension<P>::value == 2) {
+      xyz.push_back(0.0);
+    } else {
+      xyz.push_back(CGAL::to_double(p.z()));
+    }
   }
   a.quads.reserve(4 * mesh.number_of_faces());
+  std::vector<std::uint8_t> used(a.vertices.size(), 0);
   for (auto f : mesh.faces()) {
     const std::size_t valence = mesh.degree(f);
     if (valence != 4) {
@@ -126,8 +152,17 @@ Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = M
     }
     for (V v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
       a.quads.push_back(compact[static_cast<std::size_t>(v)]);
+      used[compact[static_cast<std::size_t>(v)]] = 1;
     }
   }
+  if constexpr (CGAL::Ambient_dimension<P>::value == 3) {
+    std::vector<std::size_t> names(a.vertices.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      names[i] = static_cast<std::size_t>(a.vertices[i]);
+    }
+    a.frame = planar::Frame::fit(xyz, used, "CGAL", &names);
+  }
+  a.xy = a.frame.to_2d(xyz);
   typename Mesh::template Property_map<V, bool> fixed_map;
   if (detail::find_fixed_map(mesh, mo.fixed_property, fixed_map)) {
     bool any = false;
@@ -143,20 +178,24 @@ Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = M
   return a;
 }
 
-/// Writes optimized coordinates back: only vertices whose x or y changed are set.
+/// Writes optimized 2D coordinates back: only vertices whose 2D position changed are set, to
+/// their point of the mesh's plane.
 template <class P>
 void write_back(CGAL::Surface_mesh<P> &mesh, const Arrays<P> &a, const std::vector<double> &xy) {
   for (std::size_t i = 0; i < a.vertices.size(); ++i) {
-    if (xy[2 * i] == a.xy[2 * i] && xy[2 * i + 1] == a.xy[2 * i + 1]) {
+    if (planar::same_bits(xy[2 * i], a.xy[2 * i]) && planar::same_bits(xy[2 * i + 1], a.xy[2 * i + 1])) {
       continue;
     }
+    double q[3];
+    a.frame.to_3d(&xy[2 * i], q);
     P &p = mesh.point(a.vertices[i]);
-    p = detail::with_xy(p, xy[2 * i], xy[2 * i + 1]);
+    p = detail::with_plane_point(p, q, a.frame);
   }
 }
 
 /// Optimizes `mesh` in place and returns the report. Throws Error (NonQuadFace for a face that
-/// is not a quad) and leaves the mesh unchanged on any failure.
+/// is not a quad, NotPlanar for a mesh that is not planar) and leaves the mesh unchanged on any
+/// failure.
 template <class P>
 Report optimize(CGAL::Surface_mesh<P> &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
   const Arrays<P> a = to_arrays(mesh, mo);
@@ -166,8 +205,8 @@ Report optimize(CGAL::Surface_mesh<P> &mesh, const Options &options = Options(),
   return r;
 }
 
-/// Quality statistics of `mesh` (and each face's scaled Jacobian in `per_quad`, in face
-/// iteration order, when given).
+/// Quality statistics of `mesh`, measured in its plane (and each face's scaled Jacobian in
+/// `per_quad`, in face iteration order, when given). Throws as to_arrays() does.
 template <class P>
 Quality quality(const CGAL::Surface_mesh<P> &mesh, std::vector<double> *per_quad = nullptr) {
   MeshOptions mo;

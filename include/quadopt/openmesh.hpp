@@ -7,12 +7,16 @@
 //   OpenMesh::IO::read_mesh(mesh, "plate.obj");
 //   quadopt::Report r = quadopt::openmesh::optimize(mesh);   // throws quadopt::Error
 //
-// Works with any OpenMesh mesh type whose points have at least two coordinates p[0], p[1]
-// (float ones, the default traits, or double ones). The mesh must lie in a plane z = const: x and y are
-// optimized, z is never changed. Coordinates are copied into a double buffer and only the
-// vertices whose position changed are written back, so fixed vertices, corners and vertices
-// that did not move keep their coordinates bit for bit (with float points a moved vertex is
-// rounded to float).
+// Works with any OpenMesh mesh type whose points have two or three coordinates (float ones,
+// the default traits, or double ones). A 3D mesh may lie in any plane, as with the
+// command-line tool (see quadopt/planar.hpp): in a plane x, y or z = const the other two
+// coordinates are optimized and the constant one is never changed; in a tilted plane the mesh
+// is optimized in an orthonormal frame of its best-fit plane and moved vertices are written
+// back onto that plane. A mesh that is not planar throws quadopt::NotPlanar and is left
+// unchanged. Coordinates are copied into a double buffer and only the vertices whose position
+// changed are written back, so fixed vertices, corners and vertices that did not move keep
+// their coordinates bit for bit (with float points a moved vertex is rounded to float, which
+// puts it within float precision of the plane).
 //
 // Fixed vertices: with vertex status (mesh.request_vertex_status()), locked vertices and, by
 // default, feature vertices never move; MeshOptions::fixed adds a caller's flags. Deleted
@@ -22,6 +26,9 @@
 #define QUADOPT_OPENMESH_HPP
 
 #include "../quadopt.hpp"
+#include "planar.hpp"
+
+#include <OpenMesh/Core/Utils/vector_traits.hh>
 
 #include <cstddef>
 #include <cstdint>
@@ -46,18 +53,24 @@ struct MeshOptions {
 
 /// The flat arrays quadopt takes, read from a mesh.
 struct Arrays {
-  /// x, y of every vertex (by OpenMesh vertex index).
+  /// The 2D coordinates of every vertex (by OpenMesh vertex index) in the mesh's plane: x, y
+  /// for a mesh in a plane z = const or of 2D points.
   std::vector<double> xy;
   /// 4 vertex indices per non-deleted face, in the mesh's face order.
   std::vector<std::uint32_t> quads;
   /// One flag per vertex (nonzero: fixed); empty when no vertex is fixed.
   std::vector<std::uint8_t> fixed;
+  /// The mesh's plane and the 2D frame of `xy` in it.
+  planar::Frame frame;
 };
 
-/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad, and Error on
-/// a mesh too large for 32-bit indices or a `fixed` of the wrong length.
+/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad, NotPlanar
+/// on a 3D mesh that does not lie in a plane, and Error on a mesh too large for 32-bit
+/// indices or a `fixed` of the wrong length.
 template <class Mesh>
 Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
+  constexpr std::size_t dim = OpenMesh::vector_traits<typename Mesh::Point>::size_;
+  static_assert(dim == 2 || dim == 3, "quadopt::openmesh needs points with 2 or 3 coordinates");
   const std::size_t n = mesh.n_vertices();
   if (n > static_cast<std::size_t>(std::numeric_limits<std::uint32_t>::max())) {
     throw Error(QUADOPT_STATUS_INVALID_ARGUMENT, "the mesh has more vertices than 32-bit indices can address");
@@ -67,13 +80,8 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
                                                      std::to_string(n) + " vertices");
   }
   Arrays a;
-  a.xy.resize(2 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto &p = mesh.point(typename Mesh::VertexHandle(static_cast<int>(i)));
-    a.xy[2 * i] = static_cast<double>(p[0]);
-    a.xy[2 * i + 1] = static_cast<double>(p[1]);
-  }
   a.quads.reserve(4 * mesh.n_faces());
+  std::vector<std::uint8_t> used(n, 0);
   for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
     const typename Mesh::FaceHandle fh(static_cast<int>(f));
     if (mesh.has_face_status() && mesh.status(fh).deleted()) {
@@ -85,8 +93,20 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
     }
     for (auto vh : mesh.fv_range(fh)) {
       a.quads.push_back(static_cast<std::uint32_t>(vh.idx()));
+      used[static_cast<std::size_t>(vh.idx())] = 1;
     }
   }
+  std::vector<double> xyz(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto &p = mesh.point(typename Mesh::VertexHandle(static_cast<int>(i)));
+    for (std::size_t c = 0; c < dim; ++c) {
+      xyz[3 * i + c] = static_cast<double>(p[static_cast<int>(c)]);
+    }
+  }
+  if (dim == 3) {
+    a.frame = planar::Frame::fit(xyz, used, "OpenMesh");
+  }
+  a.xy = a.frame.to_2d(xyz);
   bool any = false;
   std::vector<std::uint8_t> fixed(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -104,37 +124,46 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
   return a;
 }
 
-/// Writes the optimized `xy` back into `mesh`: only vertices whose x or y changed are set, and
-/// only their x and y.
+/// Writes the optimized 2D coordinates `xy` back into `mesh` (the mesh `a` was read from):
+/// only vertices whose 2D position changed are set, to their point of the mesh's plane (for
+/// a plane x, y or z = const only the two in-plane coordinates are set).
 template <class Mesh>
-void write_back(Mesh &mesh, const std::vector<double> &original_xy, const std::vector<double> &xy) {
+void write_back(Mesh &mesh, const Arrays &a, const std::vector<double> &xy) {
   using Scalar = std::decay_t<decltype(std::declval<typename Mesh::Point &>()[0])>;
+  constexpr std::size_t dim = OpenMesh::vector_traits<typename Mesh::Point>::size_;
   const std::size_t n = mesh.n_vertices();
   for (std::size_t i = 0; i < n; ++i) {
-    if (xy[2 * i] == original_xy[2 * i] && xy[2 * i + 1] == original_xy[2 * i + 1]) {
+    if (planar::same_bits(xy[2 * i], a.xy[2 * i]) && planar::same_bits(xy[2 * i + 1], a.xy[2 * i + 1])) {
       continue;
     }
     const typename Mesh::VertexHandle vh(static_cast<int>(i));
     typename Mesh::Point p = mesh.point(vh);
-    p[0] = static_cast<Scalar>(xy[2 * i]);
-    p[1] = static_cast<Scalar>(xy[2 * i + 1]);
+    double q[3];
+    a.frame.to_3d(&xy[2 * i], q);
+    for (int c = 0; c < static_cast<int>(dim); ++c) {
+      if (c != a.frame.axis()) {
+        p[c] = static_cast<Scalar>(q[c]);
+      }
+    }
     mesh.set_point(vh, p);
   }
 }
 
 /// Optimizes `mesh` in place and returns the report. Throws Error (NonQuadFace for a face that
-/// is not a quad) and leaves the mesh unchanged on any failure.
+/// is not a quad, NotPlanar for a mesh that is not planar) and leaves the mesh unchanged on any
+/// failure.
 template <class Mesh>
 Report optimize(Mesh &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
-  Arrays a = to_arrays(mesh, mo);
+  const Arrays a = to_arrays(mesh, mo);
   std::vector<double> xy = a.xy;
   Report r = quadopt::optimize(xy, 2, a.quads, options, a.fixed);
-  write_back(mesh, a.xy, xy);
+  write_back(mesh, a, xy);
   return r;
 }
 
-/// Quality statistics of `mesh` (and each quad's scaled Jacobian in `per_quad`, in the order
-/// of the mesh's non-deleted faces, when given).
+/// Quality statistics of `mesh`, measured in its plane (and each quad's scaled Jacobian in
+/// `per_quad`, in the order of the mesh's non-deleted faces, when given). Throws as
+/// to_arrays() does.
 template <class Mesh>
 Quality quality(const Mesh &mesh, std::vector<double> *per_quad = nullptr) {
   MeshOptions mo;

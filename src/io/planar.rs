@@ -21,6 +21,7 @@
 use super::{IoError, MeshData};
 use crate::error::Error;
 use crate::mesh::QuadMesh;
+use crate::normalization::{binary_exponent, scale_by_power_of_two};
 use glam::{DVec2, DVec3};
 
 /// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
@@ -73,16 +74,29 @@ impl PlanarFrame {
         }
         let p = |i: usize| DVec3::from_array(points[i]);
         let (mut lo, mut hi) = (p(first), p(first));
-        let mut sum = DVec3::ZERO;
         for &i in &idx {
             lo = lo.min(p(i));
             hi = hi.max(p(i));
-            sum += p(i);
         }
-        let origin = sum / idx.len() as f64;
+        // Sums and products on coordinates scaled by 2^-e (exact), so that nothing overflows
+        // or underflows at any scale; every comparison is between quantities scaled alike.
+        // (No axis is constant here, so the extent is positive.)
+        let e = binary_exponent((hi * 0.5 - lo * 0.5).max_element()) + 1;
+        let scaled = |v: DVec3, e: i32| {
+            DVec3::new(
+                scale_by_power_of_two(v.x, e),
+                scale_by_power_of_two(v.y, e),
+                scale_by_power_of_two(v.z, e),
+            )
+        };
+        let mut sum = DVec3::ZERO;
+        for &i in &idx {
+            sum += scaled(p(i), -e);
+        }
+        let origin = scaled(sum / idx.len() as f64, e);
         let mut cov = [[0.0; 3]; 3];
         for &i in &idx {
-            let d = (p(i) - origin).to_array();
+            let d = scaled(p(i) - origin, -e).to_array();
             for r in 0..3 {
                 for c in 0..3 {
                     cov[r][c] += d[r] * d[c];
@@ -90,15 +104,17 @@ impl PlanarFrame {
             }
         }
         let normal = smallest_eigenvector(cov);
-        let tolerance = PLANARITY_TOLERANCE * (hi - lo).length();
+        let tolerance = PLANARITY_TOLERANCE * scaled(hi - lo, -e).length();
         let (mut worst, mut distance) = (first, 0.0);
         for &i in &idx {
-            let d = (p(i) - origin).dot(normal).abs();
+            let d = scaled(p(i) - origin, -e).dot(normal).abs();
             if d > distance {
                 (worst, distance) = (i, d);
             }
         }
         if distance > tolerance {
+            let (distance, tolerance) =
+                (scale_by_power_of_two(distance, e), scale_by_power_of_two(tolerance, e));
             return Err(Error::NotPlanar { vertex: worst, distance, tolerance });
         }
         // u: the coordinate axis most parallel to the plane, projected into it.

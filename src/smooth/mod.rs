@@ -24,6 +24,7 @@ pub mod energy;
 pub mod fidelity;
 pub mod guard;
 pub mod laplacian;
+pub mod maxmin;
 pub mod options;
 pub mod ranking;
 pub mod report;
@@ -40,7 +41,7 @@ use boundary::BoundaryGeometry;
 pub use fidelity::BoundaryFidelity;
 use glam::DVec2;
 pub use options::{BoundaryMode, Method, Options, StopRule};
-pub use report::{Progress, Report};
+pub use report::{MaxMinGain, Progress, Report};
 use std::time::Instant;
 use sweep::RunContext;
 pub use untangle::{TangleReason, TangledQuad};
@@ -71,7 +72,35 @@ impl Optimizer {
     /// Optimizes `mesh` (which must have the connectivity this optimizer was built for). The
     /// optional `progress` callback runs after every sweep; returning `false` cancels, keeping
     /// the best positions reached so far.
+    ///
+    /// The run works on coordinates normalized to the mesh's bounding box
+    /// ([`crate::normalization`]), so its result does not depend on the mesh's units: scaled by
+    /// a power of two it is the same bit for bit. Vertices that do not move keep their
+    /// coordinates exactly; the report's statistics are those of the coordinates given and
+    /// returned.
     pub fn run(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<Report> {
+        let frame = crate::normalization::Normalization::new(mesh.points(), mesh.quads());
+        let original = frame.normalize(mesh.points_mut())?;
+        let result = self.run_normalized(mesh, options, progress);
+        frame.restore(mesh.points_mut(), &original);
+        let mut report = result?;
+        if frame.origin() != DVec2::ZERO {
+            // Translating rounded the coordinates: report the quality of the actual ones.
+            report.input = QualityStats::from_values(&crate::quality::quad_values(&original, mesh.quads()));
+            report.output = mesh.quality();
+        }
+        let fidelity = &mut report.fidelity;
+        fidelity.max_deviation = frame.length_to_original(fidelity.max_deviation);
+        fidelity.hausdorff = frame.length_to_original(fidelity.hausdorff);
+        Ok(report)
+    }
+
+    fn run_normalized(
         &self,
         mesh: &mut QuadMesh,
         options: &Options,
@@ -101,11 +130,16 @@ impl Optimizer {
             input_inverted: input_values.iter().map(|&v| v <= 0.0).collect(),
             floor: options.guard_floor.max(input.min),
         };
-        let (pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
+        let (mut pass, loop_modes) = if options.boundary == BoundaryMode::Auto {
             ctx.auto(mesh.points(), &mut progress)
         } else {
             let modes = vec![options.boundary; topo.loop_count()];
             (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
+        };
+        let max_min = if options.max_min && !pass.cancelled {
+            ctx.max_min_stage(&mut pass, &mut progress)
+        } else {
+            None
         };
 
         // Once, for the kept pass: it costs as much as the targets of a sweep.
@@ -129,6 +163,7 @@ impl Optimizer {
             loop_modes,
             fidelity,
             // The statistics already say whether there is anything to diagnose.
+            max_min,
             tangled: if pass.stats.inverted == 0 {
                 Vec::new()
             } else {
@@ -203,6 +238,7 @@ mod tests {
             guard: false,
             untangle: false,
             keep_best: false,
+            max_min: false,
             ..Options::default()
         }
     }

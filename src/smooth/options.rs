@@ -176,6 +176,10 @@ pub struct Options {
     /// Largest allowed distance between a new boundary edge and the stretch of the original
     /// boundary it replaces, relative to that edge's length (`None`: unlimited).
     pub max_boundary_deviation: Option<f64>,
+    /// After the sweeps, the max-min stage ([`super::maxmin`]): the vertices of the worst
+    /// quads move to maximize their star's minimum scaled Jacobian, so the global minimum
+    /// rises and never falls.
+    pub max_min: bool,
 }
 
 impl Default for Options {
@@ -194,13 +198,14 @@ impl Default for Options {
             untangle: true,
             keep_best: true,
             max_boundary_deviation: None,
+            max_min: true,
         }
     }
 }
 
 impl Options {
-    /// The paper's plain method: no guard, no untangling, the last iterate, Approach 2 on the
-    /// boundary, the energy rule with the absolute threshold tau = 1e-4.
+    /// The paper's plain method: no guard, no untangling, no max-min stage, the last iterate,
+    /// Approach 2 on the boundary, the energy rule with the absolute threshold tau = 1e-4.
     pub fn paper() -> Options {
         Options {
             boundary: BoundaryMode::Slide,
@@ -209,6 +214,7 @@ impl Options {
             guard: false,
             untangle: false,
             keep_best: false,
+            max_min: false,
             ..Options::default()
         }
     }

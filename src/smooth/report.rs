@@ -57,4 +57,19 @@ pub struct Report {
     pub fidelity: BoundaryFidelity,
     /// Quads still inverted in the output, and why.
     pub tangled: Vec<TangledQuad>,
+    /// Quality before and after the max-min stage, when it ran and its result was kept.
+    pub max_min: Option<MaxMinGain>,
+}
+
+/// What the max-min stage changed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaxMinGain {
+    /// Quality after the sweeps, when the stage started.
+    pub before: QualityStats,
+    /// Quality after the stage.
+    pub after: QualityStats,
+    /// Rounds of the stage.
+    pub rounds: usize,
+    /// Wall-clock seconds of the stage.
+    pub seconds: f64,
 }

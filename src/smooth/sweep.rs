@@ -7,9 +7,10 @@
 //! turned off. A pass has one boundary mode per loop; [`super::auto`] chooses them.
 
 use super::boundary::{self, BoundaryGeometry};
+use super::maxmin::{self, MaxMinSettings};
 use super::options::{BoundaryMode, Method, Options};
-use super::ranking::{improves, stats_of};
-use super::report::Progress;
+use super::ranking::{MIN_TIE, improves, stats_of};
+use super::report::{MaxMinGain, Progress};
 use super::stopping::Stopper;
 use super::{angle_based, embedded_polygon, energy, guard, laplacian, untangle};
 use crate::features::Features;
@@ -182,6 +183,61 @@ impl RunContext<'_> {
             cancelled,
             initial_energy: (!initial_energy.is_nan()).then_some(initial_energy),
         }
+    }
+
+    /// The max-min stage on the kept pass: its result replaces the pass's when the ranking
+    /// takes it (the stage never lowers the minimum, but may trade average for it).
+    pub fn max_min_stage(
+        &self,
+        pass: &mut Pass,
+        progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Option<MaxMinGain> {
+        let settings = MaxMinSettings {
+            max_boundary_deviation: self.options.max_boundary_deviation,
+            ..MaxMinSettings::default()
+        };
+        let (mut points, mut params) = (pass.points.clone(), pass.params.clone());
+        let sweeps = pass.iterations;
+        let max_iterations = self.options.max_iterations;
+        let mut cancelled = false;
+        let mut on_round = |round: usize, _min: f64| {
+            let Some(cb) = progress.as_mut() else { return true };
+            // Rounds continue the sweep count of the pass, without an energy.
+            let p = Progress {
+                iteration: sweeps + round,
+                max_iterations,
+                energy: f64::NAN,
+                energy_change: f64::NAN,
+                pass: 1,
+                passes: 1,
+            };
+            cancelled = !cb(&p);
+            !cancelled
+        };
+        let report = maxmin::max_min_stage(
+            &mut points,
+            &mut params,
+            self.quads,
+            self.topo,
+            self.features,
+            self.geometry,
+            &settings,
+            Some(&mut on_round),
+        );
+        let mut values = Vec::with_capacity(self.quads.len());
+        let after = stats_of(&points, self.quads, &mut values);
+        // The average may fall by the ranking's tie threshold at most: the stage is for the
+        // worst quad, not a trade of the average for it.
+        let keep = !self.inverts_a_valid_quad(&values)
+            && after.avg >= pass.stats.avg - MIN_TIE
+            && (after == pass.stats || improves(&after, &pass.stats, &self.input));
+        pass.cancelled |= cancelled;
+        if !keep {
+            return None;
+        }
+        let gain = MaxMinGain { before: pass.stats, after, rounds: report.rounds, seconds: report.seconds };
+        (pass.points, pass.params, pass.stats) = (points, params, after);
+        Some(gain)
     }
 
     /// Collective energy of the movable interior vertices at `points` (boundary vertices

@@ -1,0 +1,934 @@
+//! The max-min stage: raises the worst quad as far as moving single vertices can.
+//!
+//! The embedded-polygon fixed point is not a max-min optimum, and the guard only keeps each
+//! star above a floor, so after the sweeps the worst quad can usually still be improved. This
+//! stage works on the vertices of the worst quads (those within `region_delta` of the current
+//! global minimum) and moves each to a position that maximizes the minimum scaled Jacobian of
+//! its star (its incident quads), Gauss-Seidel, colour class by colour class:
+//!
+//! - interior vertices by a local max-min solver ([`LocalSolver`]): a DMO-style nested grid
+//!   search (Zint and Grosso, IMR 2018), Freitag and Plassmann's active-set ascent (2000), or
+//!   the grid followed by the active-set polish;
+//! - movable boundary vertices by a nested 1-D search along their ORIGINAL polyline between
+//!   the arclengths of their two boundary neighbours, so they stay on the original boundary.
+//!
+//! A max-min move is taken only when the star's minimum strictly rises (by more than
+//! roundoff) and no quad of the star that is valid becomes inverted, so the global minimum
+//! never falls. Among the positions evaluated whose star minimum is within `avg_tolerance` of
+//! the best one, the one with the highest star average is taken.
+//!
+//! A class is evaluated in parallel (its vertices share no quad, so each reads only positions
+//! no other one changes) and applied in order: the result does not depend on the thread count.
+//! Quads none of whose vertices may move are left out of the region's reference minimum (the
+//! "level"), so a fixed worst quad does not stall the stage.
+//!
+//! Rounds repeat while the level rises by at least `min_gain`. When it stalls, in order: the
+//! region grows (the threshold doubles up to `max_region_delta`); an "escape" moves the region
+//! by average instead, each star kept above min(its value, level + `region_delta`), which
+//! unlocks the greedy equilibrium (at most `escapes` times); the phase switches once (see
+//! [`MaxMinSettings::average_first`]); then the stage ends. Last, `average_sweeps` sweeps over
+//! the moved vertices give back average the same way, so the stage does not trade the average
+//! for the minimum (measured: the average rises on every sample mesh).
+//!
+//! A vertex whose max-min search failed is skipped until something in its star moves (the
+//! search would fail again), so the late rounds cost little.
+
+use super::boundary::BoundaryGeometry;
+use super::fidelity::chord_deviation;
+use crate::features::Features;
+use crate::quality::{QualityStats, corners, scaled_jacobian};
+use crate::topology::Topology;
+use glam::DVec2;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Keep at least this fraction of the neighbour-to-neighbour arclength between a boundary
+/// vertex and each of its boundary neighbours (as the boundary sweeps do).
+const BOUNDARY_MARGIN: f64 = 0.05;
+
+/// A move must raise its star's minimum (or, recovering the average, its average) by more
+/// than this: gains at roundoff level are not worth a move (perfect meshes would otherwise
+/// shuffle vertices by 1e-16 forever).
+const MIN_RISE: f64 = 1e-9;
+
+/// Classes with fewer region vertices than this are solved on the calling thread.
+const PARALLEL_MIN: usize = 32;
+
+/// Step halvings towards the smoothing target when recovering the average.
+const AVERAGE_HALVINGS: usize = 8;
+
+/// Step halvings of the active-set line search before the step counts as failed.
+const ACTIVE_SET_HALVINGS: usize = 12;
+
+/// How an interior vertex's best position is searched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LocalSolver {
+    /// DMO's nested grid: `grid_size` x `grid_size` candidates in a box of half the star's
+    /// extent around the vertex, re-centred on the best one and shrunk to two cells,
+    /// `grid_levels` times.
+    Grid,
+    /// Freitag and Plassmann's active-set method: ascend along the minimum-norm element of the
+    /// convex hull of the active corners' gradients, with the step predicted from where
+    /// another corner becomes active, halved until the star minimum rises.
+    ActiveSet,
+    /// The nested grid, then the active-set ascent from its best point.
+    #[default]
+    GridActiveSet,
+}
+
+/// Settings of the max-min stage.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaxMinSettings {
+    /// Interior solver.
+    pub solver: LocalSolver,
+    /// Candidates per axis of the nested grid (>= 2).
+    pub grid_size: usize,
+    /// Refinement levels of the nested grid (>= 1).
+    pub grid_levels: usize,
+    /// Iteration cap of the active-set ascent.
+    pub active_set_iterations: usize,
+    /// Samples per level of the boundary 1-D search (>= 2).
+    pub boundary_samples: usize,
+    /// Initial region: the vertices of quads whose scaled Jacobian is below the level (the
+    /// minimum over quads with a movable vertex) plus this.
+    pub region_delta: f64,
+    /// The region's threshold grows (doubling) up to this when the minimum stalls.
+    pub max_region_delta: f64,
+    /// Positions whose star minimum is within this of the best one found count as equal, and
+    /// the highest star average among them is taken (0: the best minimum only).
+    pub avg_tolerance: f64,
+    /// A round whose gain of the level is below this counts as a stall.
+    pub min_gain: f64,
+    /// Round cap.
+    pub max_rounds: usize,
+    /// Which of the two phases runs first. In the max-min phase every star goes to its
+    /// highest minimum; in the ranked phase, candidates whose star minimum exceeds the region's
+    /// threshold plus `region_delta` are ranked by average (leaving neighbours room). The
+    /// stage switches phase once, when the first stalls (measured: max-min first reaches the
+    /// higher minimum on the Mesquite and sample meshes).
+    pub average_first: bool,
+    /// With [`LocalSolver::GridActiveSet`], search with the grid only a vertex's first time
+    /// (and after an escape), later with the active set alone from where it is.
+    pub warm_start: bool,
+    /// Switch phase (see `average_first`) when the first stalls.
+    pub switch_phase: bool,
+    /// Average sweeps over the region allowed when the max-min rounds stall.
+    pub escapes: usize,
+    /// Recover the average (escapes and final sweeps) by steps towards the embedded-polygon
+    /// target, halved until acceptable, instead of a grid search for the highest average
+    /// (measured: a third cheaper, but the average ends up to 0.007 lower).
+    pub average_by_smoothing: bool,
+    /// The final average recovery keeps each star above min(its value, level + this).
+    pub recovery_margin: f64,
+    /// Sweeps of the final average recovery over the moved vertices (0: none).
+    pub average_sweeps: usize,
+    /// Move movable boundary vertices (along the original boundary) as well as interior ones.
+    pub boundary: bool,
+    /// As [`super::Options::max_boundary_deviation`]: largest distance between a new boundary
+    /// edge and the stretch of the original boundary it replaces, relative to its length.
+    pub max_boundary_deviation: Option<f64>,
+}
+
+impl Default for MaxMinSettings {
+    fn default() -> Self {
+        MaxMinSettings {
+            solver: LocalSolver::default(),
+            grid_size: 8,
+            grid_levels: 3,
+            active_set_iterations: 30,
+            boundary_samples: 16,
+            region_delta: 0.05,
+            max_region_delta: 0.2,
+            avg_tolerance: 0.0,
+            min_gain: 1e-4,
+            max_rounds: 200,
+            average_first: false,
+            average_sweeps: 8,
+            recovery_margin: 0.01,
+            average_by_smoothing: false,
+            warm_start: false,
+            switch_phase: true,
+            escapes: 2,
+            boundary: true,
+            max_boundary_deviation: None,
+        }
+    }
+}
+
+/// What the stage did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaxMinReport {
+    /// Quality when the stage started.
+    pub before: QualityStats,
+    /// Quality when it ended.
+    pub after: QualityStats,
+    /// Rounds (Gauss-Seidel passes over the region) performed.
+    pub rounds: usize,
+    /// Vertex moves taken.
+    pub moves: usize,
+    /// Global minimum scaled Jacobian before the first round, after every round and after the
+    /// average recovery (non-decreasing).
+    pub history: Vec<f64>,
+    /// Whether the callback cancelled the stage.
+    pub cancelled: bool,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// The quads around one vertex, with the vertex's corner index in each.
+struct Star {
+    quads: Vec<([DVec2; 4], usize)>,
+    /// Whether each quad is valid (scaled Jacobian > 0) at the current position.
+    valid: Vec<bool>,
+    /// Per quad, what does not depend on the moving corner.
+    fixed_part: Vec<FixedPart>,
+}
+
+/// The corners and edges of a star quad that stay put while its corner at the vertex moves:
+/// with them a candidate costs two square roots instead of four.
+#[derive(Clone, Copy, Debug)]
+struct FixedPart {
+    prev: DVec2,
+    next: DVec2,
+    opposite: DVec2,
+    /// |opposite - next| and |prev - opposite|.
+    next_len: f64,
+    prev_len: f64,
+    /// Scaled Jacobian at the opposite corner.
+    opposite_value: f64,
+    /// False when the fixed corners are degenerate: always use the full evaluation.
+    usable: bool,
+}
+
+/// Below this the fast evaluation defers to [`scaled_jacobian`], whose degenerate-edge and
+/// sign rules then decide (validity is judged exactly as in the statistics).
+const FAST_FLOOR: f64 = 1e-6;
+
+impl FixedPart {
+    fn new(c: &[DVec2; 4], k: usize) -> FixedPart {
+        let (prev, next, opposite) = (c[(k + 3) % 4], c[(k + 1) % 4], c[(k + 2) % 4]);
+        let (next_len, prev_len) = ((opposite - next).length(), (prev - opposite).length());
+        let (a, b) = (prev - opposite, next - opposite);
+        let opposite_value = a.perp_dot(b) / (prev_len * next_len);
+        let usable = next_len > 0.0 && prev_len > 0.0 && opposite_value.is_finite();
+        FixedPart { prev, next, opposite, next_len, prev_len, opposite_value, usable }
+    }
+
+    /// The quad's scaled Jacobian with its moving corner at `x`, or `None` when it is near
+    /// degenerate or inverted (then the caller evaluates it in full).
+    #[inline]
+    fn value(&self, x: DVec2) -> Option<f64> {
+        if !self.usable {
+            return None;
+        }
+        let (u, w) = (self.next - x, self.prev - x);
+        let (lu, lw) = (u.length(), w.length());
+        let at_x = u.perp_dot(w) / (lu * lw);
+        let at_next = (self.opposite - self.next).perp_dot(-u) / (self.next_len * lu);
+        let at_prev = (-w).perp_dot(self.opposite - self.prev) / (lw * self.prev_len);
+        let m = at_x.min(at_next).min(at_prev).min(self.opposite_value);
+        // NaN (a zero edge) fails this test too.
+        (m >= FAST_FLOOR).then_some(m)
+    }
+}
+
+/// Star minimum and average at one position; `min` is -inf when a valid quad would invert.
+#[derive(Clone, Copy, Debug)]
+struct Value {
+    min: f64,
+    avg: f64,
+}
+
+/// The value of a position that may not be taken.
+const REJECTED: Value = Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
+
+impl Star {
+    fn new(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> Star {
+        let quads: Vec<([DVec2; 4], usize)> = topo
+            .vertex_quads(v)
+            .iter()
+            .map(|&qi| {
+                let q = &quads[qi as usize];
+                (corners(points, q), q.iter().position(|&u| u as usize == v).unwrap_or(0))
+            })
+            .collect();
+        let valid = quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect();
+        let fixed_part = quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect();
+        Star { quads, valid, fixed_part }
+    }
+
+    fn value(&self, at: DVec2) -> Value {
+        let (mut min, mut sum) = (f64::INFINITY, 0.0);
+        for (((c, k), &valid), part) in self.quads.iter().zip(&self.valid).zip(&self.fixed_part) {
+            let q = part.value(at).unwrap_or_else(|| {
+                let mut c = *c;
+                c[*k] = at;
+                scaled_jacobian(&c)
+            });
+            if valid && q <= 0.0 {
+                return REJECTED;
+            }
+            min = min.min(q);
+            sum += q;
+        }
+        if !at.is_finite() || min.is_nan() {
+            return REJECTED;
+        }
+        Value { min, avg: sum / self.quads.len().max(1) as f64 }
+    }
+
+    /// Every corner's scaled Jacobian at `at` and its gradient with respect to `at`.
+    fn corner_functions(&self, at: DVec2, out: &mut Vec<(f64, DVec2)>) {
+        out.clear();
+        for (c, k) in &self.quads {
+            let mut c = *c;
+            c[*k] = at;
+            for i in 0..4 {
+                let (prev, p, next) = (c[(i + 3) % 4], c[i], c[(i + 1) % 4]);
+                let (u, w) = (next - p, prev - p);
+                let (lu, lw) = (u.length_squared(), w.length_squared());
+                if lu == 0.0 || lw == 0.0 {
+                    out.push((0.0, DVec2::ZERO));
+                    continue;
+                }
+                let norm = (lu * lw).sqrt();
+                let value = u.perp_dot(w) / norm;
+                let cos = u.dot(w) / norm;
+                // J = sin(angle from u to w): d/dw = cos perp(w)/|w|^2, d/du = -cos perp(u)/|u|^2.
+                let d_prev = cos * w.perp() / lw;
+                let d_next = -cos * u.perp() / lu;
+                let grad = if i == *k {
+                    -(d_prev + d_next)
+                } else if (i + 3) % 4 == *k {
+                    d_prev
+                } else if (i + 1) % 4 == *k {
+                    d_next
+                } else {
+                    DVec2::ZERO
+                };
+                out.push((value, grad));
+            }
+        }
+    }
+}
+
+/// Candidate positions seen by a local search, and the choice among them.
+struct Candidates<T> {
+    seen: Vec<(T, Value)>,
+    best: Value,
+}
+
+impl<T: Copy> Candidates<T> {
+    fn new() -> Self {
+        Candidates { seen: Vec::new(), best: REJECTED }
+    }
+
+    fn add(&mut self, at: T, value: Value) {
+        if value.min > self.best.min {
+            self.best = value;
+        }
+        self.seen.push((at, value));
+    }
+
+    /// The highest-average candidate that strictly raises `current` and whose minimum is
+    /// within `tolerance` of the best one or at least `enough`.
+    fn choose(&self, current: f64, tolerance: f64, enough: f64) -> Option<(T, Value)> {
+        let level = (self.best.min - tolerance).min(enough);
+        let mut chosen: Option<(T, Value)> = None;
+        for &(at, value) in &self.seen {
+            if value.min > current + MIN_RISE && value.min >= level {
+                let better = chosen
+                    .is_none_or(|(_, c)| value.avg > c.avg || (value.avg == c.avg && value.min > c.min));
+                if better {
+                    chosen = Some((at, value));
+                }
+            }
+        }
+        chosen
+    }
+}
+
+/// Minimum-norm point of the convex hull of `g` (a handful of 2D points): the steepest
+/// ascent direction of min_i (f_i + g_i . d), zero when the origin is in the hull.
+fn min_norm_in_hull(g: &[DVec2]) -> DVec2 {
+    // The min-norm point c satisfies g_i . c >= |c|^2 for every i; it is a point of g or the
+    // projection of the origin onto a segment between two of them, unless it is the origin.
+    let optimal = |c: DVec2| {
+        let c2 = c.length_squared();
+        g.iter().all(|gi| gi.dot(c) >= c2 - 1e-12 * c2.max(1e-300))
+    };
+    let mut best: Option<DVec2> = None;
+    let mut consider = |c: DVec2| {
+        if best.is_none_or(|b| c.length_squared() < b.length_squared()) && optimal(c) {
+            best = Some(c);
+        }
+    };
+    for (i, &a) in g.iter().enumerate() {
+        consider(a);
+        for &b in &g[i + 1..] {
+            let d = b - a;
+            let d2 = d.length_squared();
+            if d2 > 0.0 {
+                let t = (-a.dot(d) / d2).clamp(0.0, 1.0);
+                consider(a + t * d);
+            }
+        }
+    }
+    best.unwrap_or(DVec2::ZERO)
+}
+
+/// Freitag and Plassmann's active-set ascent from `start`; every accepted iterate is added
+/// to `seen`. `scale` bounds the length of one step.
+fn active_set(star: &Star, start: DVec2, iterations: usize, scale: f64, seen: &mut Candidates<DVec2>) {
+    let mut x = start;
+    let mut m = star.value(x).min;
+    if !m.is_finite() {
+        return;
+    }
+    let mut functions = Vec::with_capacity(star.quads.len() * 4);
+    let mut active = Vec::with_capacity(16);
+    // The active set's tolerance: large at first so the step follows the ridge of nearly
+    // equal corners, shrunk when it gives no ascent, until the smallest one fails too.
+    let mut eps = 1e-3;
+    let mut it = 0;
+    while it < iterations {
+        star.corner_functions(x, &mut functions);
+        let fmin = functions.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
+        active.clear();
+        active.extend(functions.iter().filter(|f| f.0 <= fmin + eps).map(|f| f.1));
+        let d = min_norm_in_hull(&active);
+        let d2 = d.length_squared();
+        let mut moved = false;
+        if d2 * scale * scale > 1e-24 {
+            // Where a non-active corner, decreasing slower than the active ones rise, meets
+            // them on the linearization.
+            let mut alpha = scale / d2.sqrt();
+            for &(f, g) in &functions {
+                let rate = g.dot(d);
+                if f > fmin + eps && rate < d2 {
+                    alpha = alpha.min((f - fmin) / (d2 - rate));
+                }
+            }
+            for _ in 0..ACTIVE_SET_HALVINGS {
+                let y = x + alpha * d;
+                let value = star.value(y);
+                if value.min > m {
+                    x = y;
+                    m = value.min;
+                    seen.add(y, value);
+                    moved = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+        }
+        it += 1;
+        if !moved {
+            if eps <= 1e-11 {
+                break;
+            }
+            eps *= 1e-4;
+        }
+    }
+}
+
+/// Nested grid search (DMO) around `start` for the highest `score`; every candidate is added
+/// to `seen`. Returns the best point.
+fn grid_search(
+    star: &Star,
+    start: DVec2,
+    extent: DVec2,
+    settings: &MaxMinSettings,
+    score: impl Fn(Value) -> f64,
+    seen: &mut Candidates<DVec2>,
+) -> DVec2 {
+    let n = settings.grid_size.max(2);
+    let affine = 1.0 / (n - 1) as f64;
+    let mut centre = start;
+    let mut centre_min = score(star.value(start));
+    let mut scale = 0.5;
+    for _ in 0..settings.grid_levels.max(1) {
+        let (lo, hi) = (centre - scale * extent, centre + scale * extent);
+        let mut level_best = (f64::NEG_INFINITY, centre);
+        for i in 0..n {
+            for j in 0..n {
+                let t = DVec2::new(i as f64 * affine, j as f64 * affine);
+                let p = lo + (hi - lo) * t;
+                let value = star.value(p);
+                seen.add(p, value);
+                if score(value) > level_best.0 {
+                    level_best = (score(value), p);
+                }
+            }
+        }
+        if level_best.0 > centre_min {
+            (centre_min, centre) = level_best;
+        }
+        scale *= 2.0 * affine;
+    }
+    centre
+}
+
+/// What a move of one vertex aims at.
+#[derive(Clone, Copy, Debug)]
+enum Objective {
+    /// Strictly raise the star's minimum; candidates at least `enough` are ranked by average.
+    MaxMin { enough: f64 },
+    /// Strictly raise the star's average, keeping its minimum at least min(current, floor).
+    Average { floor: f64 },
+}
+
+impl Objective {
+    /// The bar a candidate's star minimum must clear, given the star's current value.
+    fn floor(self, current: Value) -> f64 {
+        match self {
+            Objective::MaxMin { .. } => current.min,
+            Objective::Average { floor } => current.min.min(floor),
+        }
+    }
+
+    /// What the searches maximize.
+    fn score(self, current: Value) -> impl Fn(Value) -> f64 {
+        let floor = self.floor(current);
+        move |value: Value| match self {
+            Objective::MaxMin { .. } => value.min,
+            Objective::Average { .. } => {
+                if value.min >= floor {
+                    value.avg
+                } else {
+                    f64::NEG_INFINITY
+                }
+            }
+        }
+    }
+
+    /// The candidate taken, if any improves on `current`.
+    fn choose<T: Copy>(self, seen: &Candidates<T>, current: Value, tolerance: f64) -> Option<T> {
+        let current_min = if current.min.is_finite() { current.min } else { f64::NEG_INFINITY };
+        match self {
+            Objective::MaxMin { enough } => seen.choose(current_min, tolerance, enough).map(|(at, _)| at),
+            Objective::Average { .. } => {
+                let floor = self.floor(current);
+                let mut chosen: Option<(T, f64)> = None;
+                for &(at, value) in &seen.seen {
+                    if value.min >= floor
+                        && value.avg > current.avg + MIN_RISE
+                        && chosen.is_none_or(|(_, a)| value.avg > a)
+                    {
+                        chosen = Some((at, value.avg));
+                    }
+                }
+                chosen.map(|(at, _)| at)
+            }
+        }
+    }
+}
+
+/// The best position for interior vertex `v` under `objective`, if one improves its star.
+fn interior_move(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    settings: &MaxMinSettings,
+    solver: LocalSolver,
+    objective: Objective,
+) -> Option<DVec2> {
+    let star = Star::new(points, quads, topo, v);
+    let p = points[v];
+    let current = star.value(p);
+    // Extent of the star: the largest offsets to the ring's vertices, per axis (as DMO).
+    let mut extent = DVec2::ZERO;
+    for &u in topo.full_ring(v) {
+        extent = extent.max((points[u as usize] - p).abs());
+    }
+    if !(extent.x > 0.0 || extent.y > 0.0) || !extent.is_finite() {
+        return None;
+    }
+    let mut seen = Candidates::new();
+    seen.add(p, current);
+    let scale = 0.5 * extent.max_element();
+    let score = objective.score(current);
+    match (solver, objective) {
+        (_, Objective::Average { .. }) if settings.average_by_smoothing => {
+            // The embedded-polygon target is where the sweeps put the vertex for the average:
+            // the longest step back towards it that keeps the star above the floor.
+            let (target, _) = super::embedded_polygon::target(points, v, topo.ring(v));
+            let mut step = target - p;
+            if step.is_finite() {
+                for _ in 0..=AVERAGE_HALVINGS {
+                    let at = p + step;
+                    let value = star.value(at);
+                    seen.add(at, value);
+                    if score(value) > f64::NEG_INFINITY && value.avg > current.avg {
+                        break;
+                    }
+                    step *= 0.5;
+                }
+            }
+        }
+        (LocalSolver::Grid, _) | (_, Objective::Average { .. }) => {
+            grid_search(&star, p, extent, settings, score, &mut seen);
+        }
+        (LocalSolver::ActiveSet, _) => active_set(&star, p, settings.active_set_iterations, scale, &mut seen),
+        (LocalSolver::GridActiveSet, _) => {
+            let from = grid_search(&star, p, extent, settings, score, &mut seen);
+            active_set(&star, from, settings.active_set_iterations, scale, &mut seen);
+        }
+    }
+    objective.choose(&seen, current, settings.avg_tolerance)
+}
+
+/// The best arclength for movable boundary vertex `v` on its original loop under
+/// `objective`, if one improves its star: a nested 1-D search between its boundary
+/// neighbours.
+#[allow(clippy::too_many_arguments)]
+fn boundary_move(
+    points: &[DVec2],
+    params: &[f64],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    geometry: &BoundaryGeometry,
+    v: usize,
+    settings: &MaxMinSettings,
+    objective: Objective,
+) -> Option<(DVec2, f64)> {
+    let slot = geometry.slot(v)?;
+    let l = geometry.slot_loop(slot);
+    let (a, b) = geometry.loop_slots(l);
+    let count = b - a;
+    let len = geometry.loop_length(l);
+    if count < 3 || !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    let k = slot - a;
+    let s_prev = params[a + (k + count - 1) % count];
+    let mut s_next = params[a + (k + 1) % count];
+    while s_next <= s_prev {
+        s_next += len;
+    }
+    let margin = BOUNDARY_MARGIN * (s_next - s_prev);
+    let (lo, hi) = (s_prev + margin, s_next - margin);
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let star = Star::new(points, quads, topo, v);
+    let current = star.value(points[v]);
+    let score = objective.score(current);
+    let mut seen: Candidates<f64> = Candidates::new();
+    // Honour the shape tolerance as the boundary sweeps do: both new boundary edges within
+    // tol x their length of the original stretch they replace.
+    let within_tolerance = |t: f64| {
+        settings.max_boundary_deviation.is_none_or(|tol| {
+            [(s_prev, t), (t, s_next)].iter().all(|&(a, b)| {
+                let (n2o, o2n) = chord_deviation(geometry, l, a, b);
+                n2o.max(o2n) <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
+            })
+        })
+    };
+    let n = settings.boundary_samples.max(2);
+    let (mut from, mut to) = (lo, hi);
+    // Refine until the spacing is at roundoff level of the loop's length.
+    for _ in 0..40 {
+        let step = (to - from) / (n - 1) as f64;
+        let mut level_best = (f64::NEG_INFINITY, from);
+        for i in 0..n {
+            let s = from + step * i as f64;
+            let value = if within_tolerance(s) { star.value(geometry.eval(l, s)) } else { REJECTED };
+            seen.add(s, value);
+            if score(value) > level_best.0 {
+                level_best = (score(value), s);
+            }
+        }
+        if step <= 1e-13 * len {
+            break;
+        }
+        let s = level_best.1;
+        (from, to) = ((s - step).max(lo), (s + step).min(hi));
+    }
+    let s = objective.choose(&seen, current, settings.avg_tolerance)?.rem_euclid(len);
+    Some((geometry.eval(l, s), s))
+}
+
+/// Quality statistics of every quad, computed in parallel and summed in a fixed order.
+fn quad_stats(points: &[DVec2], quads: &[[u32; 4]], values: &mut Vec<f64>) -> QualityStats {
+    values.clear();
+    values.par_extend(quads.par_iter().map(|q| scaled_jacobian(&corners(points, q))));
+    QualityStats::from_values(values)
+}
+
+/// What every sweep reads.
+struct Context<'a> {
+    quads: &'a [[u32; 4]],
+    topo: &'a Topology,
+    features: &'a Features,
+    geometry: &'a BoundaryGeometry,
+    settings: &'a MaxMinSettings,
+}
+
+impl Context<'_> {
+    /// Whether the stage may move `v`.
+    fn eligible(&self, v: usize) -> bool {
+        self.features.is_movable(v)
+            && (!self.features.is_boundary(v) || (self.settings.boundary && self.geometry.slot(v).is_some()))
+    }
+}
+
+/// Per-vertex bookkeeping of the stage.
+struct Marks {
+    /// Moved at least once.
+    moved: Vec<bool>,
+    /// A max-min search found no better position, and nothing in the star has moved since:
+    /// the search would fail again (its outcome does not depend on the round's threshold).
+    settled: Vec<bool>,
+    /// A max-min search with the grid has run here (see `MaxMinSettings::warm_start`).
+    searched: Vec<bool>,
+}
+
+/// One Gauss-Seidel sweep over the eligible vertices selected by `select`, colour class by
+/// colour class: a class is evaluated in parallel and applied in order. Returns how many
+/// vertices moved.
+fn sweep(
+    points: &mut [DVec2],
+    params: &mut [f64],
+    ctx: &Context,
+    select: impl Fn(usize) -> bool + Sync,
+    objective: Objective,
+    marks: &mut Marks,
+) -> usize {
+    let max_min = matches!(objective, Objective::MaxMin { .. });
+    let mut members: Vec<u32> = Vec::new();
+    let mut results: Vec<(u32, Option<(DVec2, f64)>)> = Vec::new();
+    let mut count = 0;
+    for c in 0..ctx.topo.colour_count() {
+        members.clear();
+        members.extend(ctx.topo.colour_class(c).iter().filter(|&&v| {
+            let v = v as usize;
+            select(v) && ctx.eligible(v) && !(max_min && marks.settled[v])
+        }));
+        if members.is_empty() {
+            continue;
+        }
+        results.clear();
+        {
+            let (pts, prm, warm) = (&*points, &*params, &marks.searched[..]);
+            let solve = |&v: &u32| {
+                let vi = v as usize;
+                let found = if ctx.features.is_boundary(vi) {
+                    boundary_move(pts, prm, ctx.quads, ctx.topo, ctx.geometry, vi, ctx.settings, objective)
+                } else {
+                    // The grid has placed v near its optimum once: later rounds only follow
+                    // its neighbours' moves, which the active set does at a fraction of the cost.
+                    let solver = match ctx.settings.solver {
+                        LocalSolver::GridActiveSet if warm[vi] => LocalSolver::ActiveSet,
+                        s => s,
+                    };
+                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, solver, objective)
+                        .map(|p| (p, 0.0))
+                };
+                (v, found)
+            };
+            // Handing a few vertices to the thread pool costs more than solving them here.
+            if members.len() < PARALLEL_MIN {
+                results.extend(members.iter().map(solve));
+            } else {
+                results.par_extend(members.par_iter().map(solve));
+            }
+        }
+        // Sequential: the same result whatever the thread count.
+        for &(v, found) in &results {
+            let v = v as usize;
+            marks.searched[v] |= max_min && ctx.settings.warm_start;
+            let Some((p, s)) = found else {
+                marks.settled[v] |= max_min;
+                continue;
+            };
+            points[v] = p;
+            marks.moved[v] = true;
+            marks.settled[v] = false;
+            for &u in ctx.topo.full_ring(v) {
+                marks.settled[u as usize] = false;
+            }
+            if let Some(slot) = ctx.geometry.slot(v) {
+                params[slot] = s;
+            }
+            count += 1;
+        }
+    }
+    count
+}
+
+/// Runs the max-min stage on `points` (and the boundary parameters `params`, one per slot of
+/// `geometry`, as the sweeps keep them). `progress` is called after every round with the
+/// round number and the global minimum; returning `false` cancels (the positions reached are
+/// kept, they are never worse).
+#[allow(clippy::too_many_arguments)]
+pub fn max_min_stage(
+    points: &mut [DVec2],
+    params: &mut [f64],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    features: &Features,
+    geometry: &BoundaryGeometry,
+    settings: &MaxMinSettings,
+    mut progress: Option<&mut dyn FnMut(usize, f64) -> bool>,
+) -> MaxMinReport {
+    let start = Instant::now();
+    let mut values = Vec::with_capacity(quads.len());
+    let before = quad_stats(points, quads, &mut values);
+    let mut report = MaxMinReport {
+        before,
+        after: before,
+        rounds: 0,
+        moves: 0,
+        history: vec![before.min],
+        cancelled: false,
+        seconds: 0.0,
+    };
+    if quads.is_empty() || before.min.is_nan() || before.min >= 1.0 - MIN_RISE {
+        return report;
+    }
+    let ctx = Context { quads, topo, features, geometry, settings };
+    let mut in_region = vec![false; points.len()];
+    let mut marks = Marks {
+        moved: vec![false; points.len()],
+        settled: vec![false; points.len()],
+        searched: vec![false; points.len()],
+    };
+    // Quads with no vertex the stage may move keep their value: the stage works on the worst
+    // of the others (its level), else a fixed worst quad would stall it from the start.
+    let stuck: Vec<bool> = quads.iter().map(|q| q.iter().all(|&u| !ctx.eligible(u as usize))).collect();
+    let level_of = |values: &[f64]| {
+        values.iter().zip(&stuck).filter(|(_, s)| !**s).map(|(v, _)| *v).fold(f64::INFINITY, f64::min)
+    };
+    let mut level = level_of(&values);
+    if level.is_nan() || level >= 1.0 - MIN_RISE {
+        // Nothing movable, or every movable quad already perfect.
+        return report;
+    }
+    let mut delta = settings.region_delta.max(0.0);
+    let mut stats = before;
+    // Two phases (see `average_first`); each greedy phase stalls in its own equilibrium, and
+    // the other one often moves on from there.
+    let mut ranked_by_average = settings.average_first;
+    let mut switched = !settings.switch_phase;
+    let mut escapes = 0;
+    while report.rounds < settings.max_rounds {
+        let threshold = level + delta;
+        let enough = if ranked_by_average { threshold + settings.region_delta } else { f64::INFINITY };
+        in_region.fill(false);
+        for (q, &value) in quads.iter().zip(&values) {
+            if value < threshold {
+                for &u in q {
+                    in_region[u as usize] = true;
+                }
+            }
+        }
+        let objective = Objective::MaxMin { enough };
+        let round_moves = sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
+        report.rounds += 1;
+        report.moves += round_moves;
+        stats = quad_stats(points, quads, &mut values);
+        let new_level = level_of(&values);
+        let gain = new_level - level;
+        level = new_level;
+        report.history.push(stats.min);
+        if let Some(cb) = progress.as_mut() {
+            if !cb(report.rounds, stats.min) {
+                report.cancelled = true;
+                break;
+            }
+        }
+        if round_moves == 0 || gain < settings.min_gain {
+            if delta < settings.max_region_delta {
+                delta = (2.0 * delta.max(1e-3)).min(settings.max_region_delta);
+            } else if escapes < settings.escapes {
+                // Every region vertex sits at its star's max-min given its neighbours: move
+                // the region by average instead (keeping each star above the minimum plus
+                // region_delta, or its current value), which unlocks the next max-min rounds.
+                escapes += 1;
+                let floor = level + settings.region_delta;
+                let objective = Objective::Average { floor };
+                report.moves +=
+                    sweep(&mut *points, &mut *params, &ctx, |v| in_region[v], objective, &mut marks);
+                stats = quad_stats(points, quads, &mut values);
+                level = level_of(&values);
+                report.history.push(stats.min);
+                delta = settings.region_delta.max(0.0);
+                marks.searched.fill(false);
+            } else if !switched {
+                switched = true;
+                ranked_by_average = !ranked_by_average;
+                delta = settings.region_delta.max(0.0);
+            } else {
+                break;
+            }
+        }
+    }
+    // Give back average where the minimum does not need it: the moved vertices and their
+    // neighbours (whose quads the moves changed) raise their star's average while their star
+    // stays above min(its value, the final level plus `recovery_margin`).
+    let floor = level + settings.recovery_margin;
+    for _ in 0..settings.average_sweeps {
+        let mut was_moved = marks.moved.clone();
+        for v in (0..points.len()).filter(|&v| marks.moved[v]) {
+            for &u in topo.full_ring(v) {
+                was_moved[u as usize] = true;
+            }
+        }
+        let count = sweep(
+            &mut *points,
+            &mut *params,
+            &ctx,
+            |v| was_moved[v],
+            Objective::Average { floor },
+            &mut marks,
+        );
+        report.moves += count;
+        if count == 0 {
+            break;
+        }
+    }
+    if settings.average_sweeps > 0 {
+        stats = quad_stats(points, quads, &mut values);
+        report.history.push(stats.min);
+    }
+    report.after = stats;
+    report.seconds = start.elapsed().as_secs_f64();
+    report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_star_value_matches_the_scaled_jacobian() {
+        // Random convex-ish quads and moving corners: the fast evaluation agrees with
+        // scaled_jacobian to roundoff, or defers to it.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut fast = 0;
+        for _ in 0..20_000 {
+            let base =
+                [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+            let c = base.map(|p| p + 0.6 * DVec2::new(next(), next()));
+            let k = ((next() + 0.5) * 4.0) as usize % 4;
+            let x = base[k] + 0.8 * DVec2::new(next(), next());
+            let part = FixedPart::new(&c, k);
+            let mut moved = c;
+            moved[k] = x;
+            let exact = scaled_jacobian(&moved);
+            if let Some(v) = part.value(x) {
+                fast += 1;
+                assert!((v - exact).abs() < 1e-14, "{v} vs {exact}");
+            }
+        }
+        assert!(fast > 5_000, "the fast path was taken only {fast} times");
+    }
+}

@@ -1,0 +1,328 @@
+//! The max-min stage (quadopt::smooth::maxmin): known optima reached, the global minimum
+//! monotone, fixed vertices untouched, boundary vertices on the original boundary, no valid
+//! quad inverted, the same result on any thread count.
+
+mod common;
+
+use common::Rng;
+use quadopt::features::Features;
+use quadopt::quality::{corners, scaled_jacobian};
+use quadopt::smooth::boundary::BoundaryGeometry;
+use quadopt::smooth::maxmin::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
+use quadopt::{BoundaryMode, DVec2, QuadMesh, Topology};
+
+/// An nx x ny grid of unit squares, vertex (i, j) at index j (nx + 1) + i.
+fn grid(nx: u32, ny: u32) -> (Vec<DVec2>, Vec<[u32; 4]>) {
+    let mut p = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            p.push(DVec2::new(i as f64, j as f64));
+        }
+    }
+    let mut q = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let a = j * (nx + 1) + i;
+            q.push([a, a + 1, a + nx + 2, a + nx + 1]);
+        }
+    }
+    (p, q)
+}
+
+/// Runs the stage on `mesh` in `mode` (corners at the default 45 degrees); returns the new
+/// positions and the report.
+fn run(mesh: &QuadMesh, mode: BoundaryMode, settings: &MaxMinSettings) -> (Vec<DVec2>, MaxMinReport) {
+    let topo = Topology::new(mesh);
+    let features = Features::new(mesh, &topo, 45.0, mode != BoundaryMode::Fixed);
+    let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);
+    let mut points = mesh.points().to_vec();
+    let mut params = geometry.initial_params();
+    let report =
+        max_min_stage(&mut points, &mut params, mesh.quads(), &topo, &features, &geometry, settings, None);
+    // The parameters describe the positions: every movable boundary vertex sits at its
+    // parameter's point of the original boundary.
+    for (v, p) in points.iter().enumerate() {
+        if let Some(slot) = geometry.slot(v) {
+            let at = geometry.eval(geometry.slot_loop(slot), params[slot]);
+            assert!((at - *p).length() < 1e-12, "vertex {v} at {p} but its parameter gives {at}");
+        }
+    }
+    (points, report)
+}
+
+fn quality(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
+    quads.iter().map(|q| scaled_jacobian(&corners(points, q))).collect()
+}
+
+fn assert_monotone(report: &MaxMinReport) {
+    assert!(report.history.len() >= 2, "no round recorded: {:?}", report.history);
+    for w in report.history.windows(2) {
+        assert!(w[1] >= w[0], "the global minimum fell from {} to {}: {:?}", w[0], w[1], report.history);
+    }
+    assert_eq!(report.history[0], report.before.min);
+    assert_eq!(*report.history.last().unwrap(), report.after.min);
+}
+
+#[test]
+fn interior_vertex_reaches_the_centre_of_a_symmetric_star() {
+    // 2x2 unit squares with the centre dragged off: the star's minimum is 1 only with every
+    // corner at 90 degrees, i.e. at the centre (1, 1).
+    for solver in [LocalSolver::Grid, LocalSolver::ActiveSet, LocalSolver::GridActiveSet] {
+        let (mut p, q) = grid(2, 2);
+        p[4] = DVec2::new(1.37, 0.71);
+        let mesh = QuadMesh::new(p, q, None).unwrap();
+        let settings = MaxMinSettings { solver, ..MaxMinSettings::default() };
+        let (points, report) = run(&mesh, BoundaryMode::Fixed, &settings);
+        let err = (points[4] - DVec2::new(1.0, 1.0)).length();
+        match solver {
+            // DMO's 3 levels of 8x8 stop at 1/49 of the star's size; still an improvement.
+            LocalSolver::Grid => assert!(err < 0.05, "{solver:?}: {}", points[4]),
+            // The ascent alone creeps along the smooth peak until its iteration cap.
+            LocalSolver::ActiveSet => assert!(err < 1e-5, "{solver:?}: {}, {err} from (1, 1)", points[4]),
+            LocalSolver::GridActiveSet => {
+                assert!(err < 1e-6, "{solver:?}: centre at {}, {err} from (1, 1)", points[4]);
+                assert!((report.after.min - 1.0).abs() < 1e-10, "{solver:?}: {}", report.after.min);
+            }
+        }
+        assert!(report.after.min > report.before.min);
+        assert_monotone(&report);
+    }
+}
+
+#[test]
+fn interior_vertex_reaches_the_max_min_point_of_an_uneven_star() {
+    // A 2x2 patch of columns 1 and 3 wide with its only interior vertex dragged off: every
+    // corner of the star is at 90 degrees (star minimum 1) only at the grid point (1, 1).
+    let p = vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(4.0, 0.0),
+        DVec2::new(0.0, 1.0),
+        DVec2::new(1.3, 1.4), // free
+        DVec2::new(4.0, 1.0),
+        DVec2::new(0.0, 2.0),
+        DVec2::new(1.0, 2.0),
+        DVec2::new(4.0, 2.0),
+    ];
+    let q = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let (points, report) = run(&mesh, BoundaryMode::Fixed, &MaxMinSettings::default());
+    assert!((points[4] - DVec2::new(1.0, 1.0)).length() < 1e-6, "{}", points[4]);
+    assert!((report.after.min - 1.0).abs() < 1e-10);
+    assert_monotone(&report);
+}
+
+#[test]
+fn boundary_vertex_slides_to_its_optimum_on_a_straight_edge() {
+    // 2x2 grid, every vertex fixed but the bottom middle one (vertex 1, free to slide along
+    // y = 0 between (0, 0) and (2, 0)), and the centre pinned at (1.5, 1). By hand: the left
+    // quad (0,0) (x,0) (1.5,1) (0,1) has corners 1, 1/r, 1/r, 1 with r = sqrt((1.5-x)^2+1);
+    // the right quad (x,0) (2,0) (2,1) (1.5,1) has 1/r, 1, 1, 1/r. The star minimum 1/r is
+    // highest (1) at x = 1.5.
+    let (mut p, q) = grid(2, 2);
+    p[4] = DVec2::new(1.5, 1.0);
+    let fixed = (0..9).map(|v| v != 1).collect();
+    let mesh = QuadMesh::new(p.clone(), q, Some(fixed)).unwrap();
+    let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
+    assert_eq!(points[1].y, 0.0, "left the straight edge: {}", points[1]);
+    assert!((points[1].x - 1.5).abs() < 1e-6, "{}", points[1]);
+    let star = quality(&points, &mesh.quads()[..2]);
+    assert!(star.iter().all(|&v| (v - 1.0).abs() < 1e-10), "{star:?}");
+    for v in (0..9).filter(|&v| v != 1) {
+        assert_eq!(points[v].to_array().map(f64::to_bits), p[v].to_array().map(f64::to_bits));
+    }
+    assert_monotone(&report);
+}
+
+/// A jittered nx x ny grid with its straight sides free to slide, some interior vertices
+/// fixed, and the jitter large enough to leave poor quads.
+fn jittered(nx: u32, ny: u32, seed: u64) -> QuadMesh {
+    let (mut p, q) = grid(nx, ny);
+    let mut rng = Rng(seed);
+    let mut fixed = vec![false; p.len()];
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let v = (j * (nx + 1) + i) as usize;
+            let (bx, by) = (i == 0 || i == nx, j == 0 || j == ny);
+            let (dx, dy) = (0.38 * rng.next(), 0.38 * rng.next());
+            match (bx, by) {
+                (false, false) => p[v] += DVec2::new(dx, dy),
+                (false, true) => p[v].x += dx,
+                (true, false) => p[v].y += dy,
+                (true, true) => {}
+            }
+            fixed[v] = !bx && !by && (i * 7 + j * 3) % 11 == 0;
+        }
+    }
+    QuadMesh::new(p, q, Some(fixed)).unwrap()
+}
+
+#[test]
+fn the_minimum_never_falls_and_fixed_vertices_stay_bit_identical() {
+    for seed in 1..6 {
+        let mesh = jittered(9, 7, seed);
+        let before = quality(mesh.points(), mesh.quads());
+        let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
+        assert_monotone(&report);
+        assert!(report.rounds >= 2 && report.moves > 0);
+        assert!(
+            report.after.min > report.before.min + 0.05,
+            "seed {seed}: min {} -> {}",
+            report.before.min,
+            report.after.min
+        );
+        let after = quality(&points, mesh.quads());
+        assert_eq!(report.after.min, after.iter().copied().fold(f64::INFINITY, f64::min));
+        for (b, a) in before.iter().zip(&after) {
+            assert!(*b <= 0.0 || *a > 0.0, "a valid quad was inverted");
+        }
+        let topo = Topology::new(&mesh);
+        let features = Features::new(&mesh, &topo, 45.0, true);
+        for (v, p) in points.iter().enumerate() {
+            if !features.is_movable(v) {
+                assert_eq!(
+                    p.to_array().map(f64::to_bits),
+                    mesh.points()[v].to_array().map(f64::to_bits),
+                    "seed {seed}: vertex {v} is fixed or a corner but moved"
+                );
+            }
+        }
+        // Straight sides: the boundary vertices stay on them, in order.
+        let (w, h) = (9.0, 7.0);
+        for (v, p) in points.iter().enumerate() {
+            if features.is_boundary(v) {
+                let on_side = p.x == 0.0 || p.x == w || p.y == 0.0 || p.y == h;
+                assert!(on_side && p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h, "vertex {v} at {p}");
+            }
+        }
+    }
+}
+
+/// A jittered ring of quads between regular 24-gons of radius 1 and 2 (turning 15 degrees
+/// per boundary vertex: no corners); returns the mesh and the boundary rings' vertex ranges.
+fn ring_mesh() -> (QuadMesh, u32, u32) {
+    let (n, rings) = (24u32, 3u32);
+    let mut rng = Rng(42);
+    let mut p = Vec::new();
+    for r in 0..=rings {
+        let on_boundary = r == 0 || r == rings;
+        for k in 0..n {
+            let jitter = if on_boundary { 0.0 } else { 0.1 };
+            let a = std::f64::consts::TAU * (k as f64 + 3.0 * jitter * rng.next()) / n as f64;
+            let radius = 1.0 + r as f64 / rings as f64 + jitter * rng.next();
+            p.push(DVec2::new(a.cos(), a.sin()) * radius);
+        }
+    }
+    let mut q = Vec::new();
+    for r in 0..rings {
+        for k in 0..n {
+            let (a, b) = (r * n + k, r * n + (k + 1) % n);
+            q.push([a, b, b + n, a + n]);
+        }
+    }
+    (QuadMesh::new(p, q, None).unwrap(), n, rings)
+}
+
+#[test]
+fn boundary_vertices_stay_on_the_original_curved_boundary() {
+    // The stage must keep every boundary vertex on the input's polygons: not on the circles,
+    // not on the current edges.
+    let (mesh, n, rings) = ring_mesh();
+    let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
+    assert_monotone(&report);
+    assert!(report.after.min > report.before.min);
+    let mut moved = 0;
+    for r in [0, rings] {
+        let polygon: Vec<DVec2> = (0..n).map(|k| mesh.points()[(r * n + k) as usize]).collect();
+        for k in 0..n {
+            let v = (r * n + k) as usize;
+            moved += usize::from(points[v] != mesh.points()[v]);
+            let d = (0..n as usize)
+                .map(|i| {
+                    let (a, b) = (polygon[i], polygon[(i + 1) % n as usize]);
+                    let t = ((points[v] - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                    (a + t * (b - a) - points[v]).length()
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-12, "boundary vertex {v} is {d} off the original boundary");
+        }
+    }
+    assert!(moved > 0, "no boundary vertex moved: the test would check nothing");
+}
+
+#[test]
+fn a_zero_boundary_deviation_keeps_curved_boundaries_in_place() {
+    // Every boundary vertex of the ring is a vertex of the curved original polygon: with a
+    // tolerance of 0 any slide would cut a corner of it, so only interior vertices move.
+    let (mesh, n, rings) = ring_mesh();
+    let settings = MaxMinSettings { max_boundary_deviation: Some(0.0), ..MaxMinSettings::default() };
+    let (points, report) = run(&mesh, BoundaryMode::Slide, &settings);
+    assert!(report.after.min > report.before.min);
+    for r in [0, rings] {
+        for k in 0..n {
+            let v = (r * n + k) as usize;
+            assert_eq!(points[v], mesh.points()[v], "boundary vertex {v} moved");
+        }
+    }
+    assert!((n as usize..(rings * n) as usize).any(|v| points[v] != mesh.points()[v]));
+}
+
+#[test]
+fn a_tangled_star_never_inverts_a_valid_quad() {
+    // One inverted quad (the centre pulled across an edge): the stage may raise it, but the
+    // valid quads stay valid and the minimum does not fall.
+    let (mut p, q) = grid(3, 3);
+    p[5] = DVec2::new(2.3, 1.2); // vertex (1, 1) pushed beyond its right neighbour's column
+    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let before = quality(mesh.points(), mesh.quads());
+    assert!(before.iter().any(|&v| v <= 0.0), "the setup must be tangled");
+    let (points, report) = run(&mesh, BoundaryMode::Fixed, &MaxMinSettings::default());
+    let after = quality(&points, mesh.quads());
+    for (b, a) in before.iter().zip(&after) {
+        assert!(*b <= 0.0 || *a > 0.0, "a valid quad was inverted");
+    }
+    assert!(report.after.inverted <= report.before.inverted);
+    assert_monotone(&report);
+}
+
+#[test]
+fn the_result_does_not_depend_on_the_thread_count() {
+    let mesh = jittered(12, 10, 9);
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default()))
+    };
+    let (one, r1) = on(1);
+    let (two, r2) = on(2);
+    let bits = |p: &[DVec2]| p.iter().flat_map(|q| q.to_array().map(f64::to_bits)).collect::<Vec<u64>>();
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(r1.history, r2.history);
+}
+
+#[test]
+fn cancelling_keeps_a_result_no_worse() {
+    let mesh = jittered(9, 7, 3);
+    let topo = Topology::new(&mesh);
+    let features = Features::new(&mesh, &topo, 45.0, true);
+    let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);
+    let mut points = mesh.points().to_vec();
+    let mut params = geometry.initial_params();
+    let mut calls = 0;
+    let mut stop = |_round: usize, _min: f64| {
+        calls += 1;
+        false
+    };
+    let report = max_min_stage(
+        &mut points,
+        &mut params,
+        mesh.quads(),
+        &topo,
+        &features,
+        &geometry,
+        &MaxMinSettings::default(),
+        Some(&mut stop),
+    );
+    assert_eq!(calls, 1);
+    assert!(report.cancelled && report.rounds == 1);
+    assert!(report.after.min >= report.before.min);
+}

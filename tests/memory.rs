@@ -62,12 +62,12 @@ fn tangled_fan(n: u32) -> QuadMesh {
 /// (name, mesh): a plain grid, a tangled one, one with many holes, a strip whose every vertex
 /// is on the boundary, a tangled fan and a tiny grid.
 fn meshes() -> Vec<(&'static str, QuadMesh)> {
-    let s = Synthetic { nx: 120, ny: 120, ..Synthetic::default() };
+    let s = Synthetic { nx: 80, ny: 80, ..Synthetic::default() };
     vec![
         ("grid", s.generate()),
         ("tangled grid", Synthetic { jitter: 0.45, ..s }.generate()),
-        ("holes", Synthetic { holes: 400, ..s }.generate()),
-        ("strip", Synthetic { nx: 6000, ny: 1, holes: 0, jitter: 0.0, ..s }.generate()),
+        ("holes", Synthetic { holes: 200, ..s }.generate()),
+        ("strip", Synthetic { nx: 3000, ny: 1, holes: 0, jitter: 0.0, ..s }.generate()),
         ("fan", tangled_fan(2000)),
         ("small", Synthetic { nx: 3, ny: 3, holes: 0, ..s }.generate()),
     ]

@@ -256,7 +256,7 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
             "glibc.malloc.mmap_threshold=65536:glibc.malloc.trim_threshold=65536:glibc.malloc.arena_max=1";
         return run_in_child_with(NAME, &[("GLIBC_TUNABLES", tunables)]);
     }
-    let (coords, quads) = jittered_grid(150);
+    let (coords, quads) = jittered_grid(100);
     let (v, q) = (coords.len() / 2, quads.len() / 4);
     let mut options = quadopt_options_defaults();
     options.max_iterations = 5;
@@ -278,7 +278,7 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
 
     let base = address_space();
     let (mut refused, mut succeeded) = (0, 0);
-    for extra in (0..=64).map(|k| k << 18) {
+    for extra in (0..=40).map(|k| k << 18) {
         let mut one_shot = coords.clone();
         let mut via_handle = coords.clone();
         let mut created = null_mut();

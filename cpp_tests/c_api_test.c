@@ -2,8 +2,28 @@
  * a small patch, the reusable handle, growable structs, and every error status that bad input
  * can produce, each checked to leave the caller's buffers untouched.
  *
+ * On POSIX systems also: a child forked after use, and (Linux) an input too large for an
+ * address-space limit, which must give QUADOPT_STATUS_OUT_OF_MEMORY rather than abort.
+ *
  * Built with -std=c99 -Wall -Wextra -Werror -pedantic (see CMakeLists.txt); linked once
  * against the shared and once against the static library. Prints "N passed, N failed". */
+#if defined(__unix__) || defined(__APPLE__)
+#define _POSIX_C_SOURCE 200809L /* fork, waitpid, alarm, setrlimit */
+#define QUADOPT_TEST_POSIX 1
+#endif
+/* AddressSanitizer reserves terabytes of address space and aborts when malloc fails, so the
+ * address-space limit test is left out of sanitizer builds. */
+#if defined(__SANITIZE_ADDRESS__)
+#define QUADOPT_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define QUADOPT_TEST_ASAN 1
+#endif
+#endif
+#if defined(__linux__) && !defined(QUADOPT_TEST_ASAN)
+#define QUADOPT_TEST_AS_LIMIT 1
+#endif
+
 #include "quadopt.h"
 
 #include <math.h>
@@ -12,6 +32,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef QUADOPT_TEST_POSIX
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#endif
 
 static int passed = 0;
 static int failed = 0;
@@ -90,7 +116,7 @@ static void test_version_and_strings(void) {
   CHECK(minor == QUADOPT_VERSION_MINOR);
 
   /* Every status has its own non-empty string; anything else is "unknown status". */
-  for (s = 0; s <= 13; ++s) {
+  for (s = 0; s <= 14; ++s) {
     int t;
     CHECK(quadopt_status_string(s) != NULL && quadopt_status_string(s)[0] != '\0');
     CHECK(strcmp(quadopt_status_string(s), "unknown status") != 0);
@@ -98,7 +124,7 @@ static void test_version_and_strings(void) {
   }
   CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OK), "ok") == 0);
   CHECK(strcmp(quadopt_status_string(-1), "unknown status") == 0);
-  CHECK(strcmp(quadopt_status_string(14), "unknown status") == 0);
+  CHECK(strcmp(quadopt_status_string(15), "unknown status") == 0);
   CHECK(strcmp(quadopt_status_string(2147483647), "unknown status") == 0);
   /* The enum values are the agreed ABI. */
   CHECK(QUADOPT_STATUS_OK == 0 && QUADOPT_STATUS_NULL_POINTER == 1 && QUADOPT_STATUS_INVALID_ARGUMENT == 2);
@@ -106,7 +132,8 @@ static void test_version_and_strings(void) {
   CHECK(QUADOPT_STATUS_REPEATED_VERTEX == 6 && QUADOPT_STATUS_NON_MANIFOLD == 7);
   CHECK(QUADOPT_STATUS_NON_FINITE_COORDINATE == 8 && QUADOPT_STATUS_NON_ORIENTABLE == 9);
   CHECK(QUADOPT_STATUS_MISMATCH == 10 && QUADOPT_STATUS_CANCELLED == 11 && QUADOPT_STATUS_PANIC == 12);
-  CHECK(QUADOPT_STATUS_NOT_PLANAR == 13);
+  CHECK(QUADOPT_STATUS_NOT_PLANAR == 13 && QUADOPT_STATUS_OUT_OF_MEMORY == 14);
+  CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OUT_OF_MEMORY), "out of memory") == 0);
   CHECK(QUADOPT_METHOD_EMBEDDED_POLYGON == 0 && QUADOPT_METHOD_LAPLACIAN == 1 && QUADOPT_METHOD_COTANGENT == 2 &&
         QUADOPT_METHOD_ANGLE_BASED == 3);
   CHECK(QUADOPT_BOUNDARY_AUTO == 0 && QUADOPT_BOUNDARY_FIXED == 1 && QUADOPT_BOUNDARY_SLIDE == 2 &&
@@ -355,7 +382,9 @@ static void expect_failure(QuadoptStatus expected, double *coords, uint32_t dim,
 static int cancel_calls = 0;
 static bool cancel_at_third(const QuadoptProgress *p, void *user) {
   int *count = (int *)user;
-  CHECK(p != NULL && p->iteration >= 1 && p->max_iterations == 1000 && p->pass >= 1 && p->pass <= p->passes);
+  /* Sweeps count from 1; a call while untangling has iteration 0 and NaN energies. */
+  CHECK(p != NULL && p->max_iterations == 1000 && p->pass >= 1 && p->pass <= p->passes);
+  CHECK(p != NULL && (p->iteration >= 1 ? p->iteration <= 1000 : isnan(p->energy)));
   ++*count;
   ++cancel_calls;
   return *count < 3;
@@ -502,8 +531,82 @@ static void test_errors(void) {
     CHECK(count == 3);
   }
   /* QUADOPT_STATUS_PANIC (a library bug) and QUADOPT_STATUS_NOT_PLANAR (reserved) cannot be
-   * produced by input; their strings were checked above. */
+   * produced by input; their strings were checked above. QUADOPT_STATUS_OUT_OF_MEMORY needs
+   * a memory limit: see test_fork_and_memory_limits. */
 }
+
+#ifdef QUADOPT_TEST_POSIX
+/* Runs `body` in a forked child that SIGALRM kills after 60 s (a call blocked forever);
+ * returns whether the child exited with 0. */
+static int child_succeeds(int (*body)(void)) {
+  int status = 0;
+  pid_t pid = fork();
+  if (pid < 0) return 0;
+  if (pid == 0) {
+    alarm(60);
+    _exit(body());
+  }
+  if (waitpid(pid, &status, 0) != pid) return 0;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+/* The patch optimized in the parent before forking, to compare with the child's result. */
+static double forked_expected[2 * GRID_N];
+
+/* 0 when the call finishes with the parent's result. */
+static int optimize_like_the_parent(void) {
+  double xy[2 * GRID_N];
+  grid_coords(xy, 1.6, 1.5);
+  if (quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, NULL) != QUADOPT_STATUS_OK) return 1;
+  return memcmp(xy, forked_expected, sizeof xy) == 0 ? 0 : 2;
+}
+
+/* 0 when a child of the child (forked after the child's own calls) finishes too. */
+static int optimize_then_fork_again(void) {
+  int first = optimize_like_the_parent();
+  return first != 0 ? first : child_succeeds(optimize_like_the_parent) ? 0 : 3;
+}
+
+#ifdef QUADOPT_TEST_AS_LIMIT
+/* 20 million vertices (all but the first quad's unused: calloc'd pages never touched) under an
+ * address-space limit of 64 MiB beyond the current size: too little for the library's copy
+ * (320 MB), so every entry point returns QUADOPT_STATUS_OUT_OF_MEMORY instead of aborting. */
+static int too_large_for_the_limit(void) {
+  const size_t n = 20000000;
+  double *xy = calloc(2 * n, sizeof(double));
+  long pages = 0;
+  FILE *statm = fopen("/proc/self/statm", "r");
+  struct rlimit limit;
+  QuadoptQuality q;
+  QuadoptOptimizer *h = NULL;
+  if (xy == NULL || statm == NULL || fscanf(statm, "%ld", &pages) != 1) return 10;
+  fclose(statm);
+  xy[2] = xy[7] = xy[8] = xy[9] = 1.0; /* quad 0 1 4 3 of grid_quads: the unit square */
+  if (getrlimit(RLIMIT_AS, &limit) != 0) return 11;
+  limit.rlim_cur = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + ((rlim_t)64 << 20);
+  if (setrlimit(RLIMIT_AS, &limit) != 0) return 12;
+  if (quadopt_optimize(xy, 2, n, grid_quads, 1, NULL, NULL, NULL) != QUADOPT_STATUS_OUT_OF_MEMORY) return 1;
+  if (strstr(quadopt_last_error(), "out of memory") == NULL) return 2;
+  if (quadopt_quality(xy, 2, n, grid_quads, 1, &q, NULL, 0) != QUADOPT_STATUS_OUT_OF_MEMORY) return 3;
+  if (quadopt_optimizer_create(xy, 2, n, grid_quads, 1, NULL, &h) != QUADOPT_STATUS_OUT_OF_MEMORY) return 4;
+  if (h != NULL || xy[2] != 1.0) return 5;
+  return 0;
+}
+#endif
+
+static void test_fork_and_memory_limits(void) {
+  /* The parent uses quadopt (starting its worker threads), then forks: the child's calls must
+   * finish, with the same result, and so must a grandchild's. */
+  grid_coords(forked_expected, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(forked_expected, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, NULL),
+               QUADOPT_STATUS_OK);
+  CHECK(child_succeeds(optimize_then_fork_again));
+  CHECK(optimize_like_the_parent() == 0);
+#ifdef QUADOPT_TEST_AS_LIMIT
+  CHECK(child_succeeds(too_large_for_the_limit));
+#endif
+}
+#endif
 
 int main(void) {
   /* Nothing failed on this thread yet. */
@@ -516,6 +619,9 @@ int main(void) {
   test_growable_structs();
   test_errors();
   CHECK(cancel_calls == 3);
+#ifdef QUADOPT_TEST_POSIX
+  test_fork_and_memory_limits();
+#endif
   printf("c_api_test: %d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;
 }

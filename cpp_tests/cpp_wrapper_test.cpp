@@ -8,6 +8,7 @@
 #include <quadopt.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -49,6 +50,9 @@ void test_options() {
   CHECK(r.max_boundary_deviation == 0.25 && r.struct_size == sizeof(QuadoptOptions));
   CHECK(std::string(quadopt::version()) == quadopt_version());
   CHECK(std::string(quadopt::status_string(QUADOPT_STATUS_NO_QUADS)) == quadopt_status_string(4));
+  // Out of memory is a quadopt::Error like any other failure (not std::bad_alloc).
+  const quadopt::Error oom(QUADOPT_STATUS_OUT_OF_MEMORY, "cannot allocate 32 bytes for quads");
+  CHECK(std::string(oom.what()) == "out of memory: cannot allocate 32 bytes for quads");
 }
 
 void test_errors() {
@@ -148,6 +152,11 @@ void test_progress() {
   quadopt::Options o;
   o.progress([&](const quadopt::Progress &p) {
     ++calls;
+    // Sweeps count up from 1; calls while untangling have iteration 0 and NaN energies.
+    if (p.iteration == 0) {
+      increasing = increasing && std::isnan(p.energy);
+      return true;
+    }
     increasing = increasing && (p.iteration > last_iteration || p.iteration == 1);
     last_iteration = p.iteration;
     return true;

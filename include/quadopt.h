@@ -6,6 +6,20 @@
  * quadopt_last_error() gives a detailed message (thread-local).
  * Counts are size_t, vertex indices uint32_t, coordinates `dim` (2 or 3) doubles per vertex
  * of which x and y are read and written, z never written.
+ *
+ * Threads: every function may be called from several threads at once. Optimizations run on
+ * the library's own pool of worker threads (RAYON_NUM_THREADS, else one per core), started on
+ * first use; the result does not depend on the number of threads. A pool that cannot start
+ * leaves no thread behind: the call runs on a single worker thread, or returns
+ * QUADOPT_STATUS_OUT_OF_MEMORY if not even one can start, and later calls try again.
+ * fork: a child forked after the parent has used quadopt (on any thread) can use it too: the
+ * child's first call starts a pool of its own. Do not fork inside a progress callback.
+ * Memory: what grows with the input is allocated fallibly, and the memory the optimizer needs
+ * at its peak is checked for before it starts, so a mesh too large for the memory available
+ * gives QUADOPT_STATUS_OUT_OF_MEMORY instead of aborting the program.
+ * Output: the library never prints. A bug caught at the boundary is QUADOPT_STATUS_PANIC with
+ * its message in quadopt_last_error() (on first use the library installs a Rust panic hook
+ * that silences panics inside quadopt calls and hands any other to the previous hook).
  */
 
 #ifndef QUADOPT_H
@@ -96,7 +110,10 @@ typedef enum QuadoptStatus {
      */
     QUADOPT_STATUS_NOT_PLANAR = 13,
     /**
-     * An allocation that grows with the input failed; nothing was written.
+     * Not enough memory (or threads) for this mesh: an allocation that grows with the input
+     * failed, the memory the optimizer needs at its peak was not available when checked before
+     * it started, or not even one worker thread could start. Nothing was written; the same
+     * call can succeed with more memory available.
      */
     QUADOPT_STATUS_OUT_OF_MEMORY = 14,
 } QuadoptStatus;
@@ -211,7 +228,8 @@ typedef struct QuadoptProgress {
  * only during the call) and the options' `progress_user_data`. Return false to cancel: the
  * call then fails with `QUADOPT_STATUS_CANCELLED` and writes nothing. The callback may call
  * other quadopt functions, but must not throw a C++ exception or `longjmp` out of itself
- * (that would unwind through Rust frames; catch inside and return false instead).
+ * (that would unwind through Rust frames; catch inside and return false instead), and must
+ * not `fork` (the run's worker would be missing in the child).
  */
 typedef bool (*QuadoptProgressFn)(const struct QuadoptProgress *progress,
                                   void *user_data);

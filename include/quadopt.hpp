@@ -8,11 +8,13 @@
 //       quadopt::Options().boundary(quadopt::Boundary::Slide).max_iterations(500));
 //
 // Every failure throws quadopt::Error, which carries the C status code and the library's
-// detailed message. Adapters for mesh libraries live in <quadopt/openmesh.hpp> and
-// <quadopt/cgal.hpp>; include them only if you use those libraries.
+// detailed message; a mesh too large for the memory available is one too (status
+// QUADOPT_STATUS_OUT_OF_MEMORY), not std::bad_alloc. Adapters for mesh libraries live in
+// <quadopt/openmesh.hpp> and <quadopt/cgal.hpp>; include them only if you use those libraries.
 //
 // Thread safety: every function may be called from several threads at once; an Optimizer may
 // be shared by threads (optimize() is const) as long as each thread passes its own coordinates.
+// A process forked after using quadopt can use it in the child (see quadopt.h).
 #ifndef QUADOPT_HPP
 #define QUADOPT_HPP
 

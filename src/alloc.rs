@@ -29,6 +29,15 @@ pub fn try_copy<T: Clone>(items: &[T], what: &'static str) -> Result<Vec<T>> {
     Ok(v)
 }
 
+/// Appends `value` to `v`, growing it (geometrically, as `push` does) fallibly.
+pub fn try_push<T>(v: &mut Vec<T>, value: T, what: &'static str) -> Result<()> {
+    if v.len() == v.capacity() {
+        v.try_reserve(1).map_err(|_| out_of_memory::<T>(what, v.len().saturating_mul(2).max(1)))?;
+    }
+    v.push(value);
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -40,5 +49,10 @@ mod tests {
         assert!(e.to_string().starts_with("out of memory: cannot allocate"), "{e}");
         assert_eq!(try_filled(3, 7u8, "x").unwrap(), vec![7, 7, 7]);
         assert_eq!(try_copy(&[1, 2], "x").unwrap(), vec![1, 2]);
+        let mut v = Vec::new();
+        for i in 0..100 {
+            try_push(&mut v, i, "x").unwrap();
+        }
+        assert_eq!(v, (0..100).collect::<Vec<_>>());
     }
 }

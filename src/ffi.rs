@@ -9,14 +9,22 @@
 //!   `checked_mul` and the `isize::MAX` byte limit of Rust slices;
 //! - copies its inputs into owned Rust values first, computes, and writes the caller's
 //!   buffers only at the very end, so nothing is written on any error (cancellation included);
+//! - allocates what grows with the input fallibly, and checks that the memory the topology
+//!   and the optimizer need at their peak is available before they start (their allocations,
+//!   rayon's among them, are not all fallible), so a mesh too large for the memory gives
+//!   [`QuadoptStatus::OutOfMemory`] instead of aborting the host;
+//! - runs the optimizer on the library's own worker threads (`ffi/pool.rs`), which survive
+//!   `fork`;
 //! - records a detailed message (which quad, which index, which option) in a thread-local
-//!   buffer read by [`quadopt_last_error`]. There is no other global mutable state.
+//!   buffer read by [`quadopt_last_error`], and prints nothing (`ffi/quiet.rs`). The only other
+//!   global state is the worker pool.
 //!
 //! Enum-valued option fields are plain `u32` in the structs (a C caller can store any integer
 //! there, which must never be read as a Rust enum) and are validated when converted.
 //! Growable structs ([`QuadoptOptions`], [`QuadoptReport`]) start with `struct_size`: the
 //! library reads (or writes) only the prefix the caller declared.
 
+use crate::alloc::try_with_capacity;
 use crate::error::Error;
 use crate::mesh::QuadMesh;
 use crate::quality::QualityStats;
@@ -26,6 +34,9 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::mem::size_of;
 use std::panic::{self, AssertUnwindSafe};
+
+mod pool;
+mod quiet;
 
 /// Major version of the library (the `x` of `x.y.z`).
 pub const QUADOPT_VERSION_MAJOR: u32 = 0;
@@ -69,7 +80,10 @@ pub enum QuadoptStatus {
     Panic = 12,
     /// Reserved: the mesh is not planar. Not returned by this version (z is ignored).
     NotPlanar = 13,
-    /// An allocation that grows with the input failed; nothing was written.
+    /// Not enough memory (or threads) for this mesh: an allocation that grows with the input
+    /// failed, the memory the optimizer needs at its peak was not available when checked before
+    /// it started, or not even one worker thread could start. Nothing was written; the same
+    /// call can succeed with more memory available.
     OutOfMemory = 14,
 }
 
@@ -137,7 +151,8 @@ pub struct QuadoptProgress {
 /// only during the call) and the options' `progress_user_data`. Return false to cancel: the
 /// call then fails with `QUADOPT_STATUS_CANCELLED` and writes nothing. The callback may call
 /// other quadopt functions, but must not throw a C++ exception or `longjmp` out of itself
-/// (that would unwind through Rust frames; catch inside and return false instead).
+/// (that would unwind through Rust frames; catch inside and return false instead), and must
+/// not `fork` (the run's worker would be missing in the child).
 pub type QuadoptProgressFn =
     Option<unsafe extern "C" fn(progress: *const QuadoptProgress, user_data: *mut c_void) -> bool>;
 
@@ -325,7 +340,11 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 /// Runs the body of entry point `name`: catches panics, records the message of a failure in
 /// the thread-local last error and turns the outcome into a status.
 fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptStatus {
-    match panic::catch_unwind(AssertUnwindSafe(body)) {
+    quiet::install_hook();
+    let inside = quiet::enter(true);
+    let outcome = panic::catch_unwind(AssertUnwindSafe(body));
+    drop(inside);
+    match outcome {
         Ok(Ok(())) => QuadoptStatus::Ok,
         Ok(Err(e)) => {
             set_last_error(format!("{name}: {}", e.message));
@@ -343,6 +362,8 @@ fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptS
 
 /// Panic boundary for the functions without a status: a panic returns `fallback`.
 fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
+    quiet::install_hook();
+    let _inside = quiet::enter(true);
     panic::catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
 }
 
@@ -454,7 +475,9 @@ unsafe fn read_points(coords: *const f64, dim: u32, vertex_count: usize) -> Resu
     let len = checked_count(vertex_count, dim, "vertex_count * dim")?;
     // SAFETY: the caller guarantees `coords` holds `vertex_count * dim` doubles.
     let flat = unsafe { checked_slice(coords, len, "coords") }?;
-    Ok(flat.chunks_exact(dim).map(|c| DVec2::new(c[0], c[1])).collect())
+    let mut points = try_with_capacity(vertex_count, "vertex coordinates")?;
+    points.extend(flat.chunks_exact(dim).map(|c| DVec2::new(c[0], c[1])));
+    Ok(points)
 }
 
 /// Reads `quad_count` quads of four `uint32_t` indices into owned memory.
@@ -466,7 +489,9 @@ unsafe fn read_quads(quads: *const u32, quad_count: usize) -> Result<Vec<[u32; 4
     let len = checked_count(quad_count, 4, "quad_count * 4")?;
     // SAFETY: the caller guarantees `quads` holds `4 * quad_count` indices.
     let flat = unsafe { checked_slice(quads, len, "quads") }?;
-    Ok(flat.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]).collect())
+    let mut out = try_with_capacity(quad_count, "quads")?;
+    out.extend(flat.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]));
+    Ok(out)
 }
 
 /// Reads the optional fixed mask (`vertex_count` bytes, nonzero = fixed).
@@ -479,7 +504,9 @@ unsafe fn read_fixed(fixed: *const u8, vertex_count: usize) -> Result<Option<Vec
     }
     // SAFETY: non-null, so the caller guarantees `vertex_count` bytes.
     let flags = unsafe { checked_slice(fixed, vertex_count, "fixed") }?;
-    Ok(Some(flags.iter().map(|&f| f != 0).collect()))
+    let mut out = try_with_capacity(vertex_count, "fixed flags")?;
+    out.extend(flags.iter().map(|&f| f != 0));
+    Ok(Some(out))
 }
 
 /// Builds and validates a mesh from the caller's arrays.
@@ -694,32 +721,97 @@ fn default_options() -> QuadoptOptions {
     }
 }
 
-/// Runs the optimizer on an owned mesh, calling the C progress callback, and returns the new
-/// positions and the report. Cancellation is an error here, so nothing is written.
+// ---------------------------------------------------------------------------------------
+// Memory the topology and the optimizer need.
+
+/// Peak bytes of building the topology, per vertex or quad (whichever is more) and fixed:
+/// measured by tests/memory.rs at up to about 107 per element, with room to spare.
+const TOPOLOGY_BYTES_PER_ELEMENT: u128 = 128;
+const TOPOLOGY_BYTES_FIXED: u128 = 64 << 10;
+/// Peak bytes of a run beyond the mesh and its topology, per vertex or quad, per boundary
+/// edge and fixed: measured at up to about 135 per element plus 40 per boundary edge on
+/// grids and strips, and 250 per vertex on a 2000-quad fan (the max-min stage's star), with
+/// any method and boundary mode.
+const RUN_BYTES_PER_ELEMENT: u128 = 220;
+const RUN_BYTES_PER_BOUNDARY_EDGE: u128 = 64;
+const RUN_BYTES_FIXED: u128 = 64 << 10;
+
+/// Upper estimate of the bytes `Optimizer::new(mesh)` allocates at its peak.
+#[doc(hidden)]
+pub fn topology_bytes(mesh: &QuadMesh) -> u128 {
+    TOPOLOGY_BYTES_PER_ELEMENT * mesh.points().len().max(mesh.quads().len()) as u128 + TOPOLOGY_BYTES_FIXED
+}
+
+/// Upper estimate of the bytes one `Optimizer::run` on `mesh` allocates at its peak.
+#[doc(hidden)]
+pub fn run_bytes(mesh: &QuadMesh) -> u128 {
+    let elements = mesh.points().len().max(mesh.quads().len()) as u128;
+    RUN_BYTES_PER_ELEMENT * elements
+        + RUN_BYTES_PER_BOUNDARY_EDGE * mesh.boundary_edge_count() as u128
+        + RUN_BYTES_FIXED
+}
+
+/// Checks that `bytes` can be allocated now (in one piece, so also in the many pieces the
+/// work will use), and frees them again: an address-space or commit limit too tight for the
+/// work fails here, as an error, rather than in an allocation that aborts. The probe is
+/// never written, so it costs address space for a moment, not memory.
+fn check_memory_for(bytes: u128, what: &'static str) -> Result<(), Error> {
+    let fail = || Error::OutOfMemory { what, bytes };
+    let probe =
+        try_with_capacity::<u8>(usize::try_from(bytes).map_err(|_| fail())?, what).map_err(|_| fail())?;
+    drop(probe);
+    Ok(())
+}
+
+/// Runs the optimizer (`built`, else one built here for `mesh`) on an owned mesh on the
+/// library's worker threads, calling the C progress callback on the calling thread, and
+/// returns the new positions and the report. Cancellation is an error here, so nothing is
+/// written.
 fn run(
-    optimizer: &Optimizer,
+    built: Option<&Optimizer>,
     mut mesh: QuadMesh,
     o: &QuadoptOptions,
 ) -> Result<(QuadMesh, Report), FfiError> {
     let options = convert_options(o)?;
     let (callback, user_data) = (o.progress, o.progress_user_data);
     let mut last = None;
-    let mut forward = |p: &Progress| -> bool {
+    let on_progress = |cp: QuadoptProgress| -> bool {
         let Some(f) = callback else { return true };
-        let cp = QuadoptProgress {
-            iteration: p.iteration,
-            max_iterations: p.max_iterations,
-            pass: p.pass,
-            passes: p.passes,
-            energy: p.energy,
-            energy_change: p.energy_change,
-        };
         last = Some(cp);
+        // A panic of the caller's own Rust code (if any) is not ours to silence.
+        let _outside = quiet::enter(false);
         // SAFETY: the caller guarantees that a non-NULL `progress` is a valid function of this
         // signature; `cp` lives for the duration of the call.
         unsafe { f(&cp, user_data) }
     };
-    let report = optimizer.run(&mut mesh, &options, Some(&mut forward))?;
+    let has_callback = callback.is_some();
+    let job = |ask: &mut dyn FnMut(QuadoptProgress) -> bool| {
+        let mut forward = |p: &Progress| {
+            !has_callback
+                || ask(QuadoptProgress {
+                    iteration: p.iteration,
+                    max_iterations: p.max_iterations,
+                    pass: p.pass,
+                    passes: p.passes,
+                    energy: p.energy,
+                    energy_change: p.energy_change,
+                })
+        };
+        // Checked on a worker, once the pool (its stacks, its allocator arenas) exists.
+        let needed = run_bytes(&mesh) + built.map_or_else(|| topology_bytes(&mesh), |_| 0);
+        check_memory_for(needed, "the optimizer's working memory")?;
+        let owned;
+        let optimizer = match built {
+            Some(optimizer) => optimizer,
+            None => {
+                owned = Optimizer::new(&mesh);
+                &owned
+            }
+        };
+        optimizer.run(&mut mesh, &options, Some(&mut forward)).map(|report| (mesh, report))
+    };
+    let (mesh, report) = pool::run_with_progress(job, on_progress)
+        .map_err(|pool::NoThreads(why)| FfiError::new(QuadoptStatus::OutOfMemory, why))??;
     if report.cancelled {
         let at = last.map_or(String::new(), |p| {
             format!(" at pass {} of {}, iteration {}", p.pass, p.passes, p.iteration)
@@ -879,8 +971,7 @@ pub unsafe extern "C" fn quadopt_optimize(
         convert_options(&o)?;
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
-        let optimizer = Optimizer::new(&mesh);
-        let (mesh, r) = run(&optimizer, mesh, &o)?;
+        let (mesh, r) = run(None, mesh, &o)?;
         // SAFETY: `coords` held `vertex_count * dim` doubles (checked by read_mesh), and the
         // report size was checked against the caller's declaration.
         unsafe {
@@ -927,7 +1018,7 @@ pub unsafe extern "C" fn quadopt_quality(
         }
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, std::ptr::null()) }?;
-        let values = mesh.quality_values();
+        let values = mesh.try_quality_values()?;
         let stats = quality_of(&QualityStats::from_values(&values));
         // SAFETY: `out` is non-null and aligned (checked); `per_quad`, if non-null, is aligned
         // and holds per_quad_len >= quad_count = values.len() doubles (checked).
@@ -962,6 +1053,7 @@ pub unsafe extern "C" fn quadopt_optimizer_create(
         require_non_null(out.cast_const(), "out")?;
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
+        check_memory_for(topology_bytes(&mesh), "the mesh's topology")?;
         let optimizer = Optimizer::new(&mesh);
         let handle = Box::into_raw(Box::new(QuadoptOptimizer { mesh, optimizer }));
         // SAFETY: `out` is non-null and aligned (checked) and writable by the contract.
@@ -1002,9 +1094,9 @@ pub unsafe extern "C" fn quadopt_optimizer_optimize(
         }
         // SAFETY: forwarded from this function's contract.
         let points = unsafe { read_points(coords, dim, vertex_count) }?;
-        let mut mesh = handle.mesh.clone();
+        let mut mesh = handle.mesh.try_clone()?;
         mesh.set_points(&points)?;
-        let (mesh, r) = run(&handle.optimizer, mesh, &o)?;
+        let (mesh, r) = run(Some(&handle.optimizer), mesh, &o)?;
         // SAFETY: as in quadopt_optimize.
         unsafe {
             write_points(coords, dim as usize, mesh.points());
@@ -1064,6 +1156,7 @@ pub unsafe extern "C" fn quadopt_version_numbers(major: *mut u32, minor: *mut u3
 mod tests {
     use super::*;
     use std::ptr::{null, null_mut};
+    use std::sync::atomic::Ordering;
 
     /// A 2x2 patch of unit squares (vertices 0..9, row by row) whose centre vertex 4 has been
     /// dragged to (1.6, 1.5); with a fixed boundary the optimum puts it back at (1, 1).
@@ -1626,6 +1719,147 @@ mod tests {
         assert_eq!(boundary_or(5, || panic!("static")), 5);
     }
 
+    /// Runs this binary's test `name` again in a fresh process (with `QUADOPT_TEST_CHILD` set,
+    /// so the test runs its child half), with the given environment, and checks that exactly
+    /// that test ran and passed. Returns the child's stderr.
+    fn run_in_child(name: &str, env: &[(&str, &str)]) -> String {
+        let exe = std::env::current_exe().unwrap();
+        let out = std::process::Command::new(exe)
+            .args(["--exact", name, "--nocapture", "--test-threads=1"])
+            .env("QUADOPT_TEST_CHILD", name)
+            .env_remove("RUST_BACKTRACE")
+            .envs(env.iter().copied())
+            .output()
+            .unwrap();
+        let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success() && stdout.contains("1 passed"), "child {name}:\n{stdout}\n{stderr}");
+        stderr.into_owned()
+    }
+
+    fn is_child(name: &str) -> bool {
+        std::env::var("QUADOPT_TEST_CHILD").as_deref() == Ok(name)
+    }
+
+    /// Threads of this process.
+    fn thread_count() -> usize {
+        std::fs::read_dir("/proc/self/task").unwrap().count()
+    }
+
+    /// quadopt_optimize on the jittered patch with a fixed boundary; the status and the result.
+    fn optimize_patch(options: &QuadoptOptions) -> (QuadoptStatus, Vec<u64>) {
+        let (mut c, quads) = patch(2);
+        // SAFETY: live buffers of the stated lengths.
+        let s =
+            unsafe { quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), options, null_mut()) };
+        (s, bits(&c))
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_pool_that_cannot_start_leaves_no_thread_and_later_calls_work() {
+        const NAME: &str = "ffi::tests::a_pool_that_cannot_start_leaves_no_thread_and_later_calls_work";
+        if !is_child(NAME) {
+            run_in_child(NAME, &[("RAYON_NUM_THREADS", "3")]);
+            return;
+        }
+        let o = fixed_boundary_options();
+        let (untouched, _) = patch(2);
+        let baseline = thread_count();
+        // No thread at all can start: a status, nothing written, nothing left running.
+        pool::THREAD_LIMIT.store(0, Ordering::SeqCst);
+        let (s, c) = optimize_patch(&o);
+        assert_eq!(s, QuadoptStatus::OutOfMemory);
+        assert!(last_error().contains("cannot start a worker thread"), "{}", last_error());
+        assert_eq!((c, thread_count()), (bits(&untouched), baseline));
+        // One thread can start, the pool of three cannot: the started one is joined and the
+        // call runs on a single worker, joined too.
+        pool::THREAD_LIMIT.store(1, Ordering::SeqCst);
+        let (s, single) = optimize_patch(&o);
+        assert_eq!((s, thread_count()), (QuadoptStatus::Ok, baseline), "{}", last_error());
+        // Threads available again: the next call builds the pool, with the same result.
+        pool::THREAD_LIMIT.store(usize::MAX, Ordering::SeqCst);
+        let (s, pooled) = optimize_patch(&o);
+        assert_eq!((s, thread_count()), (QuadoptStatus::Ok, baseline + 3));
+        assert_eq!(single, pooled, "the thread count changed the result");
+        assert!((f64::from_bits(pooled[8]) - 1.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_progress_callback_runs_on_the_calling_thread() {
+        unsafe extern "C" fn record(_: *const QuadoptProgress, user: *mut c_void) -> bool {
+            // SAFETY: user is the vector below, used by this thread only.
+            unsafe { &mut *user.cast::<Vec<std::thread::ThreadId>>() }.push(std::thread::current().id());
+            true
+        }
+        let mut seen: Vec<std::thread::ThreadId> = Vec::new();
+        let o = QuadoptOptions {
+            progress: Some(record),
+            progress_user_data: (&raw mut seen).cast(),
+            ..fixed_boundary_options()
+        };
+        assert_eq!(optimize_patch(&o).0, QuadoptStatus::Ok);
+        assert!(!seen.is_empty());
+        assert!(seen.iter().all(|&t| t == std::thread::current().id()));
+    }
+
+    #[test]
+    fn nested_calls_from_the_callback_finish_on_a_single_worker() {
+        const NAME: &str = "ffi::tests::nested_calls_from_the_callback_finish_on_a_single_worker";
+        if !is_child(NAME) {
+            run_in_child(NAME, &[("RAYON_NUM_THREADS", "1")]);
+            return;
+        }
+        /// Each callback of the outer three levels optimizes the patch again, one level deeper.
+        unsafe extern "C" fn recurse(_: *const QuadoptProgress, user: *mut c_void) -> bool {
+            // SAFETY: user is the depth counter below, used by this thread only.
+            let depth = unsafe { &mut *user.cast::<usize>() };
+            if *depth < 3 {
+                *depth += 1;
+                let o = QuadoptOptions { max_iterations: 2, ..nested_options(user) };
+                assert_eq!(optimize_patch(&o).0, QuadoptStatus::Ok);
+                *depth -= 1;
+            }
+            true
+        }
+        fn nested_options(user: *mut c_void) -> QuadoptOptions {
+            QuadoptOptions { progress: Some(recurse), progress_user_data: user, ..fixed_boundary_options() }
+        }
+        let mut depth = 0usize;
+        let o = QuadoptOptions { max_iterations: 3, ..nested_options((&raw mut depth).cast()) };
+        let (s, c) = optimize_patch(&o);
+        assert_eq!((s, depth), (QuadoptStatus::Ok, 0), "{}", last_error());
+        let (_, plain) = optimize_patch(&QuadoptOptions { max_iterations: 3, ..fixed_boundary_options() });
+        assert_eq!(c, plain);
+    }
+
+    #[test]
+    fn a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook() {
+        const NAME: &str =
+            "ffi::tests::a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook";
+        if !is_child(NAME) {
+            for backtrace in ["0", "1", "full"] {
+                let stderr = run_in_child(NAME, &[("RUST_BACKTRACE", backtrace)]);
+                // Only the panic outside the library reached the default hook.
+                assert!(stderr.contains("panicked") && stderr.contains("outside the library"), "{stderr}");
+                assert!(!stderr.contains("boom"), "RUST_BACKTRACE={backtrace}:\n{stderr}");
+            }
+            return;
+        }
+        // On the calling thread, in both kinds of boundary.
+        assert_eq!(boundary("quadopt_test", || panic!("boom 1")), QuadoptStatus::Panic);
+        assert_eq!(boundary_or(7, || panic!("boom 2")), 7);
+        // On a worker thread, resumed on the calling thread.
+        let status = boundary("quadopt_test", || {
+            let _ = pool::run_with_progress(|_| -> () { panic!("boom 3") }, |_: ()| true);
+            Ok(())
+        });
+        assert_eq!(status, QuadoptStatus::Panic);
+        assert!(last_error().contains("boom 3"), "{}", last_error());
+        // The pool survives a panicking job.
+        assert_eq!(optimize_patch(&fixed_boundary_options()).0, QuadoptStatus::Ok);
+        assert!(panic::catch_unwind(|| panic!("outside the library")).is_err());
+    }
+
     #[test]
     fn every_library_error_maps_to_its_status() {
         use QuadoptStatus as S;
@@ -1640,6 +1874,7 @@ mod tests {
             (Error::VertexCountMismatch { expected: 1, got: 2 }, S::Mismatch),
             (Error::InvalidOption { name: "x", reason: String::new() }, S::InvalidOption),
             (Error::NotPlanar { vertex: 0, distance: 1.0, tolerance: 0.5 }, S::NotPlanar),
+            (Error::OutOfMemory { what: "points", bytes: 16 }, S::OutOfMemory),
         ];
         for (e, s) in cases {
             let f = FfiError::from(e.clone());
@@ -1664,6 +1899,7 @@ mod tests {
             assert_eq!(name(s), "unknown status");
         }
         assert_eq!(QuadoptStatus::NotPlanar as i32, 13);
+        assert_eq!((QuadoptStatus::OutOfMemory as i32, known[14].as_str()), (14, "out of memory"));
     }
 
     #[test]

@@ -5,7 +5,11 @@
 //! [`QuadMesh::reoriented`]); a component whose total signed area is negative is clockwise,
 //! which is a valid mesh seen from the other side, not a mesh of inverted quads. Internally every
 //! quad is stored counter-clockwise so quality is always measured against +z.
+//!
+//! Everything that grows with the input is allocated fallibly ([`crate::alloc`]): a mesh too
+//! large for the memory available gives [`Error::OutOfMemory`].
 
+use crate::alloc::{try_copy, try_filled, try_push, try_with_capacity};
 use crate::error::{Error, Result};
 use glam::DVec2;
 
@@ -20,6 +24,8 @@ pub struct QuadMesh {
     reoriented: Vec<u32>,
     /// Per quad: its component was given clockwise (empty when none was).
     clockwise: Vec<bool>,
+    /// Edges used by one quad only.
+    boundary_edges: usize,
 }
 
 /// Reverses a quad's orientation, keeping its first vertex.
@@ -46,7 +52,7 @@ impl QuadMesh {
         let fixed = match fixed {
             Some(f) if f.len() != n => return Err(Error::FixedLengthMismatch { expected: n, got: f.len() }),
             Some(f) => f,
-            None => vec![false; n],
+            None => try_filled(n, false, "fixed flags")?,
         };
         validate_indices(&quads, n)?;
         // Coordinates of vertices used by no quad are never read, but a NaN there is still
@@ -54,8 +60,20 @@ impl QuadMesh {
         if let Some(v) = points.iter().position(|p| !p.is_finite()) {
             return Err(Error::NonFiniteCoordinate { vertex: v });
         }
-        let (quads, reoriented, clockwise) = orient(&points, quads)?;
-        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise })
+        let Oriented { quads, reoriented, clockwise, boundary_edges } = orient(&points, quads)?;
+        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise, boundary_edges })
+    }
+
+    /// A copy of the mesh, or [`Error::OutOfMemory`] (where `clone` would abort).
+    pub fn try_clone(&self) -> Result<QuadMesh> {
+        Ok(QuadMesh {
+            points: try_copy(&self.points, "vertex coordinates")?,
+            quads: try_copy(&self.quads, "quads")?,
+            fixed: try_copy(&self.fixed, "fixed flags")?,
+            reoriented: try_copy(&self.reoriented, "reoriented quads")?,
+            clockwise: try_copy(&self.clockwise, "quad orientations")?,
+            boundary_edges: self.boundary_edges,
+        })
     }
 
     /// Vertex positions.
@@ -92,6 +110,12 @@ impl QuadMesh {
         &self.reoriented
     }
 
+    /// Number of boundary edges (edges of one quad only); the boundary loops have at most this
+    /// many vertices.
+    pub fn boundary_edge_count(&self) -> usize {
+        self.boundary_edges
+    }
+
     /// Whether any connected component was given clockwise.
     pub fn has_clockwise_component(&self) -> bool {
         self.clockwise.iter().any(|&c| c)
@@ -112,6 +136,17 @@ impl QuadMesh {
     /// Per-quad scaled Jacobians (see [`crate::quality`]).
     pub fn quality_values(&self) -> Vec<f64> {
         crate::quality::quad_values(&self.points, &self.quads)
+    }
+
+    /// [`QuadMesh::quality_values`], or [`Error::OutOfMemory`].
+    pub fn try_quality_values(&self) -> Result<Vec<f64>> {
+        let mut values = try_with_capacity(self.quads.len(), "quality values")?;
+        values.extend(
+            self.quads
+                .iter()
+                .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(&self.points, q))),
+        );
+        Ok(values)
     }
 
     /// Quality statistics of the mesh.
@@ -140,10 +175,11 @@ fn validate_indices(quads: &[[u32; 4]], n: usize) -> Result<()> {
 /// One directed quad edge: (min vertex, max vertex, quad, whether it runs min -> max).
 type EdgeRecord = (u32, u32, u32, bool);
 
-/// The quad edges sorted by undirected key, so quads sharing an edge are adjacent.
-/// Fails on an edge used by more than two quads.
-fn sorted_edges(quads: &[[u32; 4]]) -> Result<Vec<EdgeRecord>> {
-    let mut edges: Vec<EdgeRecord> = Vec::with_capacity(quads.len() * 4);
+/// The quad edges sorted by undirected key, so quads sharing an edge are adjacent, and the
+/// number of boundary edges. Fails on an edge used by more than two quads.
+fn sorted_edges(quads: &[[u32; 4]]) -> Result<(Vec<EdgeRecord>, usize)> {
+    // No overflow: `quads` holds 16 bytes per quad within isize::MAX.
+    let mut edges: Vec<EdgeRecord> = try_with_capacity(quads.len() * 4, "quad edges")?;
     for (qi, q) in quads.iter().enumerate() {
         for i in 0..4 {
             let (a, b) = (q[i], q[(i + 1) % 4]);
@@ -151,6 +187,7 @@ fn sorted_edges(quads: &[[u32; 4]]) -> Result<Vec<EdgeRecord>> {
         }
     }
     edges.sort_unstable();
+    let mut boundary = 0;
     let mut i = 0;
     while i < edges.len() {
         let mut j = i + 1;
@@ -166,9 +203,10 @@ fn sorted_edges(quads: &[[u32; 4]]) -> Result<Vec<EdgeRecord>> {
                 second: edges[i + 1].2 as usize,
             });
         }
+        boundary += usize::from(j - i == 1);
         i = j;
     }
-    Ok(edges)
+    Ok((edges, boundary))
 }
 
 /// Signed area of a quad whose corners are scaled by `2^scale` (exact, so the sign is that of
@@ -179,16 +217,23 @@ fn signed_area(points: &[DVec2], q: &[u32; 4], scale: i32) -> f64 {
     0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
 }
 
-type Oriented = (Vec<[u32; 4]>, Vec<u32>, Vec<bool>);
+/// The consistently oriented quads and what orienting them found.
+struct Oriented {
+    quads: Vec<[u32; 4]>,
+    reoriented: Vec<u32>,
+    clockwise: Vec<bool>,
+    boundary_edges: usize,
+}
 
 /// Makes orientation consistent per component and counter-clockwise internally.
 fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
-    let edges = sorted_edges(&quads)?;
+    let (edges, boundary_edges) = sorted_edges(&quads)?;
     // Dual graph in CSR form: neighbour quad and whether the shared edge runs the same way in
-    // both (which means one of them must be reversed).
+    // both (which means one of them must be reversed). Each quad has at most four neighbours,
+    // so degrees fit in u8 and the offsets (up to 4 * quads) in usize.
     let nq = quads.len();
-    let mut degree = vec![0u32; nq + 1];
-    let mut pairs = Vec::new();
+    let mut degree = try_filled(nq, 0u8, "quad degrees")?;
+    let mut pairs = try_with_capacity(edges.len() / 2, "quad adjacency")?;
     for w in edges.windows(2) {
         if w[0].0 == w[1].0 && w[0].1 == w[1].1 {
             pairs.push((w[0].2, w[1].2, w[0].3 == w[1].3));
@@ -196,26 +241,30 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
             degree[w[1].2 as usize] += 1;
         }
     }
-    let mut offsets = vec![0u32; nq + 1];
+    drop(edges);
+    let mut offsets = try_filled(nq + 1, 0usize, "quad adjacency offsets")?;
     for q in 0..nq {
-        offsets[q + 1] = offsets[q] + degree[q];
+        offsets[q + 1] = offsets[q] + usize::from(degree[q]);
     }
-    let mut fill = offsets.clone();
-    let mut adj = vec![(0u32, false); offsets[nq] as usize];
+    drop(degree);
+    let mut fill = try_copy(&offsets, "quad adjacency offsets")?;
+    let mut adj = try_filled(offsets[nq], (0u32, false), "quad adjacency")?;
     for &(a, b, same) in &pairs {
-        adj[fill[a as usize] as usize] = (b, same);
+        adj[fill[a as usize]] = (b, same);
         fill[a as usize] += 1;
-        adj[fill[b as usize] as usize] = (a, same);
+        adj[fill[b as usize]] = (a, same);
         fill[b as usize] += 1;
     }
+    drop((pairs, fill));
 
     // flip[q]: reverse q relative to its component's seed. Breadth-first over the dual graph.
     const UNSEEN: u8 = 2;
-    let mut flip = vec![UNSEEN; nq];
+    let mut flip = try_filled(nq, UNSEEN, "quad orientations")?;
     let mut reoriented = Vec::new();
-    let mut clockwise = vec![false; nq];
+    let mut clockwise = try_filled(nq, false, "quad orientations")?;
     let mut any_clockwise = false;
-    let mut component = Vec::new();
+    // No component has more than nq quads, so pushing never reallocates.
+    let mut component = try_with_capacity(nq, "mesh components")?;
     for seed in 0..nq {
         if flip[seed] != UNSEEN {
             continue;
@@ -227,7 +276,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
         while head < component.len() {
             let q = component[head] as usize;
             head += 1;
-            for &(nb, same) in &adj[offsets[q] as usize..offsets[q + 1] as usize] {
+            for &(nb, same) in &adj[offsets[q]..offsets[q + 1]] {
                 let want = flip[q] ^ u8::from(same);
                 match flip[nb as usize] {
                     UNSEEN => {
@@ -254,7 +303,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
             let q = q as usize;
             if flip[q] == minority {
                 quads[q] = reversed(quads[q]);
-                reoriented.push(q as u32);
+                try_push(&mut reoriented, q as u32, "reoriented quads")?;
             }
             area += signed_area(points, &quads[q], scale);
         }
@@ -270,7 +319,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
     if !any_clockwise {
         clockwise = Vec::new();
     }
-    Ok((quads, reoriented, clockwise))
+    Ok(Oriented { quads, reoriented, clockwise, boundary_edges })
 }
 
 #[cfg(test)]
@@ -311,6 +360,22 @@ mod tests {
         p3.push(DVec2::new(0.5, 2.0));
         let err = QuadMesh::new(p3, vec![[0, 1, 4, 3], [1, 2, 5, 4], [1, 4, 6, 7]], None).unwrap_err();
         assert!(matches!(err, Error::NonManifoldEdge { a: 1, b: 4, count: 3, .. }), "{err:?}");
+    }
+
+    #[test]
+    fn fallible_copies_match_and_boundary_edges_are_counted() {
+        let (p, q) = strip();
+        let mesh = QuadMesh::new(p, vec![q[0], reversed(q[1])], None).unwrap();
+        // The 2x1 strip: 7 edges, the middle one shared.
+        assert_eq!(mesh.boundary_edge_count(), 6);
+        let copy = mesh.try_clone().unwrap();
+        assert_eq!((copy.points(), copy.quads(), copy.fixed()), (mesh.points(), mesh.quads(), mesh.fixed()));
+        assert_eq!((copy.reoriented(), copy.boundary_edge_count()), (&[1][..], 6));
+        assert_eq!(mesh.try_quality_values().unwrap(), mesh.quality_values());
+        // A closed surface (a cube's six faces) has no boundary.
+        let cube = vec![[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+        let corners: Vec<DVec2> = (0..8).map(|i| DVec2::new(f64::from(i % 4), f64::from(i / 4))).collect();
+        assert_eq!(QuadMesh::new(corners, cube, None).unwrap().boundary_edge_count(), 0);
     }
 
     #[test]

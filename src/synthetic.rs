@@ -10,6 +10,8 @@
 //! assert!(mesh.quality().min < 0.9); // the jitter made it worth optimizing
 //! ```
 
+use crate::alloc::{try_filled, try_with_capacity};
+use crate::error::{Error, Result};
 use crate::mesh::QuadMesh;
 use glam::DVec2;
 use rand_core::{RngCore, SeedableRng};
@@ -54,12 +56,34 @@ impl Synthetic {
     }
 
     /// Builds the mesh. Vertices are numbered row by row, unused grid points dropped.
+    ///
+    /// # Panics
+    /// Where [`Synthetic::try_generate`] fails: a grid too large for `u32` vertex indices or
+    /// for the memory available.
     pub fn generate(&self) -> QuadMesh {
+        self.try_generate().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Builds the mesh, or fails with [`Error::InvalidOption`] for a grid whose vertices
+    /// `u32` indices cannot number, or [`Error::OutOfMemory`] for one too large for the
+    /// memory available (checked before anything of that size is allocated).
+    pub fn try_generate(&self) -> Result<QuadMesh> {
         let (nx, ny) = (self.nx.max(1) as usize, self.ny.max(1) as usize);
-        let kept = self.kept_cells(nx, ny);
+        // Every grid point gets an index below u32::MAX (the mark of an unused point).
+        let grid_points = (nx as u128 + 1) * (ny as u128 + 1);
+        if grid_points >= u128::from(u32::MAX) {
+            return Err(Error::InvalidOption {
+                name: "grid size",
+                reason: format!(
+                    "a {nx} x {ny} grid has {grid_points} vertices, more than uint32 indices can number ({})",
+                    u32::MAX - 1
+                ),
+            });
+        }
+        let kept = self.kept_cells(nx, ny)?;
         // Grid vertex (i, j) has index j * (nx + 1) + i; count the kept cells around each.
         let stride = nx + 1;
-        let mut incident = vec![0u8; stride * (ny + 1)];
+        let mut incident = try_filled(stride * (ny + 1), 0u8, "grid points")?;
         for j in 0..ny {
             for i in 0..nx {
                 if kept[j * nx + i] {
@@ -71,8 +95,9 @@ impl Synthetic {
                 }
             }
         }
-        let mut index = vec![u32::MAX; incident.len()];
-        let mut points = Vec::new();
+        let mut index = try_filled(incident.len(), u32::MAX, "grid point indices")?;
+        let mut points =
+            try_with_capacity(incident.iter().filter(|&&n| n > 0).count(), "vertex coordinates")?;
         let mut rng = Pcg64Mcg::seed_from_u64(self.seed);
         for j in 0..=ny {
             for i in 0..=nx {
@@ -90,7 +115,7 @@ impl Synthetic {
                 points.push(p);
             }
         }
-        let mut quads = Vec::with_capacity(kept.iter().filter(|&&k| k).count());
+        let mut quads = try_with_capacity(kept.iter().filter(|&&k| k).count(), "quads")?;
         for j in 0..ny {
             for i in 0..nx {
                 if kept[j * nx + i] {
@@ -99,25 +124,26 @@ impl Synthetic {
                 }
             }
         }
-        QuadMesh::new(points, quads, None).expect("a synthetic grid is a valid mesh")
+        drop((incident, index, kept));
+        QuadMesh::new(points, quads, None)
     }
 
     /// Which cells survive: those whose centre lies outside every hole.
-    fn kept_cells(&self, nx: usize, ny: usize) -> Vec<bool> {
+    fn kept_cells(&self, nx: usize, ny: usize) -> Result<Vec<bool>> {
         let k = lattice_side(self.holes);
         let (w, h) = (nx as f64, ny as f64);
         let radius = self.hole_size.clamp(0.0, 0.999) * 0.5 * (w / k as f64).min(h / k as f64);
         let centres: Vec<DVec2> = (0..self.holes as usize)
             .map(|n| DVec2::new((n % k) as f64 + 0.5, (n / k) as f64 + 0.5) * DVec2::new(w, h) / k as f64)
             .collect();
-        let mut kept = vec![true; nx * ny];
+        let mut kept = try_filled(nx * ny, true, "grid cells")?;
         for j in 0..ny {
             for i in 0..nx {
                 let c = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
                 kept[j * nx + i] = centres.iter().all(|&o| (c - o).length() >= radius);
             }
         }
-        kept
+        Ok(kept)
     }
 }
 
@@ -179,11 +205,25 @@ mod tests {
     }
 
     #[test]
+    fn grids_too_large_for_uint32_indices_are_errors_not_panics() {
+        for s in [
+            Synthetic { nx: u32::MAX, ny: u32::MAX, ..Synthetic::default() },
+            Synthetic::with_quads(100_000_000_000),
+            // 65535 x 65535 cells: 65536^2 = 2^32 grid points, one too many.
+            Synthetic { nx: 65_535, ny: 65_535, ..Synthetic::default() },
+        ] {
+            let e = s.try_generate().unwrap_err();
+            assert!(matches!(e, Error::InvalidOption { name: "grid size", .. }), "{e}");
+            assert!(e.to_string().contains("more than uint32 indices can number (4294967294)"), "{e}");
+        }
+    }
+
+    #[test]
     fn with_quads_hits_the_requested_size() {
         for n in [1_000usize, 100_000] {
             let s = Synthetic::with_quads(n);
             let (nx, ny) = (s.nx as usize, s.ny as usize);
-            let quads = s.kept_cells(nx, ny).iter().filter(|&&k| k).count();
+            let quads = s.kept_cells(nx, ny).unwrap().iter().filter(|&&k| k).count();
             assert!((quads as f64 / n as f64 - 1.0).abs() < 0.05, "{n}: got {quads}");
         }
     }

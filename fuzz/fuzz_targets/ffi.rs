@@ -1,8 +1,10 @@
 //! The C entry points (`src/ffi.rs`) with arbitrary arrays, counts, dimensions, flags, options
 //! and report sizes. Every pointer passed points into a buffer this target owns, at least as
 //! long as the count passed with it says (or is NULL); the library must check everything
-//! else. Checked: no call panics (`QUADOPT_STATUS_PANIC` is a bug), nothing is written on any
-//! error, z is never written, and a successful run gives exactly what the Rust API gives.
+//! else. Checked: no call panics (`QUADOPT_STATUS_PANIC` is a bug), none of these small inputs
+//! is refused for memory (`QUADOPT_STATUS_OUT_OF_MEMORY`), nothing is written on any error, z
+//! is never written, the progress callback runs on the calling thread, and a successful run
+//! gives exactly what the Rust API gives.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -76,11 +78,21 @@ struct ReportBuffer {
     tail: [u64; 8],
 }
 
+/// What the progress callback sees: calls so far, the call after which it cancels, and the
+/// thread that called quadopt (the callback must run on it).
+struct CancelState {
+    calls: u32,
+    limit: u32,
+    caller: std::thread::ThreadId,
+    on_another_thread: bool,
+}
+
 unsafe extern "C" fn progress(_: *const QuadoptProgress, user_data: *mut c_void) -> bool {
-    // SAFETY: user_data points to the (calls, limit) pair of the running test case.
-    let state = unsafe { &mut *user_data.cast::<(u32, u32)>() };
-    state.0 += 1;
-    state.0 <= state.1
+    // SAFETY: user_data points to the CancelState of the running test case.
+    let state = unsafe { &mut *user_data.cast::<CancelState>() };
+    state.on_another_thread |= std::thread::current().id() != state.caller;
+    state.calls += 1;
+    state.calls <= state.limit
 }
 
 /// Statistics compared bitwise, so NaN statistics (overflowing coordinates) compare equal.
@@ -94,6 +106,7 @@ fn count(base: usize, delta: i8) -> usize {
 
 fn assert_not_panic(s: QuadoptStatus) {
     assert_ne!(s, QuadoptStatus::Panic, "a C entry point panicked: {:?}", last_error());
+    assert_ne!(s, QuadoptStatus::OutOfMemory, "a small input was refused: {:?}", last_error());
 }
 
 fn last_error() -> String {
@@ -184,7 +197,8 @@ fn run(input: Input) {
     let fixed_ptr = fixed_bytes.as_ref().map_or(std::ptr::null(), |f| f.as_ptr());
 
     // Options.
-    let mut cancel_state = (0u32, u32::MAX);
+    let mut cancel_state =
+        CancelState { calls: 0, limit: u32::MAX, caller: std::thread::current().id(), on_another_thread: false };
     let mut options_buffer = OptionsBuffer { options: ffi::quadopt_options_defaults(), tail: [0; 8] };
     let options_ptr: *const QuadoptOptions = match &input.options {
         None => std::ptr::null(),
@@ -210,7 +224,7 @@ fn run(input: Input) {
             o.untangle = u8::from(c.flags & 4 == 0);
             o.keep_best = u8::from(c.flags & 8 == 0);
             if let Some(limit) = c.cancel_after {
-                cancel_state.1 = limit as u32;
+                cancel_state.limit = limit as u32;
                 o.progress = Some(progress);
                 o.progress_user_data = (&raw mut cancel_state).cast();
             }
@@ -287,6 +301,7 @@ fn run(input: Input) {
         }
     };
     assert_not_panic(status);
+    assert!(!cancel_state.on_another_thread, "the progress callback ran on another thread");
     if status != QuadoptStatus::Ok {
         assert!(!last_error().is_empty(), "no message for {status:?}");
         assert!(

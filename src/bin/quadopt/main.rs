@@ -714,7 +714,7 @@ fn cmd_generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Resu
     if spec.nx == 0 || spec.ny == 0 {
         return Err(Fail::Usage("--nx and --ny must be at least 1".into()));
     }
-    let mesh = spec.generate();
+    let mesh = spec.try_generate()?;
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
     let data = MeshData::new(points, mesh.quads_as_given());
     match format {
@@ -764,7 +764,8 @@ fn run_data_dir() -> Result<(), Fail> {
     files.sort();
     let options = Options::default();
     // Relative to the working directory when inside it: what a user would type.
-    let shown = std::env::current_dir().ok().and_then(|cwd| dir.strip_prefix(cwd).ok().map(Path::to_path_buf));
+    let shown =
+        std::env::current_dir().ok().and_then(|cwd| dir.strip_prefix(cwd).ok().map(Path::to_path_buf));
     outln!(
         "quadopt: {} meshes in {}, method {}, boundary {}",
         files.len(),

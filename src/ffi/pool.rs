@@ -1,0 +1,222 @@
+//! The worker threads of the C ABI: one rayon pool per process, never rayon's global pool.
+//!
+//! - The pool is built on first use. A pool that cannot start (a thread limit, no memory for
+//!   a stack) leaves no thread behind: the threads it did start are joined. The call then runs
+//!   on a single worker joined before it returns, or fails with a status if even that one
+//!   cannot start; a later call tries the full pool again.
+//! - After `fork` the child has only the forking thread, so the parent's workers do not exist
+//!   there: the pool is remembered with the id of the process that built it, and a process
+//!   that finds another id builds its own (the parent's pool is left alone, never touched).
+//! - The run itself executes on a worker (so that its parallel loops use this pool), while the
+//!   progress callback stays on the calling thread: the worker hands each progress report to
+//!   the caller and waits for the answer.
+//!
+//! Worker threads run only library code, so they are marked as inside the library for the
+//! quiet panic hook (see `super::quiet`).
+
+use rayon::{ThreadBuilder, ThreadPool, ThreadPoolBuilder};
+use std::sync::atomic::{AtomicPtr, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, TryRecvError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// The pool of one process.
+struct ProcessPool {
+    /// The process that built it; in any other process (a forked child) its threads are gone.
+    pid: u32,
+    pool: ThreadPool,
+}
+
+/// The current process's pool, or NULL before first use. A published pool is never freed: a
+/// reference handed out stays valid, and a forked child must not tear down its parent's.
+static SHARED: AtomicPtr<ProcessPool> = AtomicPtr::new(std::ptr::null_mut());
+
+/// Test hook: how many threads one pool may start (the next one fails as under a thread
+/// limit), without touching process limits.
+#[cfg(test)]
+pub(super) static THREAD_LIMIT: std::sync::atomic::AtomicUsize =
+    std::sync::atomic::AtomicUsize::new(usize::MAX);
+
+/// The threads could not be started; the message says why.
+#[derive(Debug)]
+pub(super) struct NoThreads(pub String);
+
+/// Runs `job` on a worker thread while the calling thread answers the job's progress reports
+/// with `on_progress`, and returns the job's result. A panic in `job` resumes on the calling
+/// thread (where the C boundary catches it).
+///
+/// `job` receives the function it calls with each report; that function returns
+/// `on_progress`'s answer (false also once the caller has stopped listening).
+pub(super) fn run_with_progress<P: Send, R: Send>(
+    job: impl FnOnce(&mut dyn FnMut(P) -> bool) -> R + Send,
+    mut on_progress: impl FnMut(P) -> bool,
+) -> Result<R, NoThreads> {
+    with_pool(move |pool| {
+        let mut result = None;
+        pool.in_place_scope(|scope| {
+            let (report, reports) = mpsc::channel::<P>();
+            let (answer, answers) = mpsc::channel::<bool>();
+            let slot = &mut result;
+            scope.spawn(move |_| {
+                let mut ask = |p: P| report.send(p).is_ok() && wait_for_answer(&answers);
+                *slot = Some(job(&mut ask));
+                // `report` is dropped here (or while unwinding): the caller's loop ends.
+            });
+            // If `on_progress` unwinds, `answer` is dropped and the waiting job sees false.
+            while let Some(p) = receive(&reports) {
+                if answer.send(on_progress(p)).is_err() {
+                    break;
+                }
+            }
+        });
+        // Had the job panicked, the scope would have re-raised it: it completed and filled the slot.
+        result.expect("the job completed")
+    })
+}
+
+/// Polls `rx` for a moment: the other side (a short callback, a sweep of a small mesh) usually
+/// answers within microseconds, and waking a sleeping thread costs more than that.
+fn poll_briefly<T>(rx: &Receiver<T>) -> Result<T, TryRecvError> {
+    let until = Instant::now() + Duration::from_micros(50);
+    loop {
+        match rx.try_recv() {
+            Err(TryRecvError::Empty) if Instant::now() < until => std::thread::yield_now(),
+            other => return other,
+        }
+    }
+}
+
+/// The next message, or `None` once the sender is gone.
+fn receive<T>(rx: &Receiver<T>) -> Option<T> {
+    match poll_briefly(rx) {
+        Ok(message) => Some(message),
+        Err(TryRecvError::Disconnected) => None,
+        Err(TryRecvError::Empty) => rx.recv().ok(),
+    }
+}
+
+/// Waits for the caller's answer to a progress report (false once the caller is gone). A
+/// callback that calls quadopt again needs a worker while this one waits, so after a
+/// millisecond without an answer this worker runs pending pool work (a pool of one thread
+/// would otherwise deadlock).
+fn wait_for_answer(answers: &Receiver<bool>) -> bool {
+    match poll_briefly(answers) {
+        Ok(go) => return go,
+        Err(TryRecvError::Disconnected) => return false,
+        Err(TryRecvError::Empty) => {}
+    }
+    loop {
+        match answers.recv_timeout(Duration::from_millis(1)) {
+            Ok(go) => return go,
+            Err(RecvTimeoutError::Disconnected) => return false,
+            Err(RecvTimeoutError::Timeout) => while rayon::yield_now() == Some(rayon::Yield::Executed) {},
+        }
+    }
+}
+
+/// Runs `f` with this process's pool, or with a single worker when the pool cannot start.
+fn with_pool<R>(f: impl FnOnce(&ThreadPool) -> R) -> Result<R, NoThreads> {
+    if let Some(pool) = shared() {
+        return Ok(f(pool));
+    }
+    let (pool, threads) =
+        build(Some(1)).map_err(|e| NoThreads(format!("cannot start a worker thread: {e}")))?;
+    // Stopped and joined when `f` returns or unwinds, so nothing outlives the call.
+    let single = Joined { pool: Some(pool), threads };
+    Ok(f(single.pool.as_ref().expect("set above")))
+}
+
+/// A pool whose threads are joined when it is dropped.
+struct Joined {
+    pool: Option<ThreadPool>,
+    threads: Vec<JoinHandle<()>>,
+}
+
+impl Drop for Joined {
+    fn drop(&mut self) {
+        // Dropping the pool tells its workers to stop once they are out of work.
+        drop(self.pool.take());
+        for handle in self.threads.drain(..) {
+            let _ = handle.join();
+        }
+    }
+}
+
+/// This process's pool, built on first use (and again in a forked child); `None` when its
+/// threads cannot all start.
+fn shared() -> Option<&'static ThreadPool> {
+    let pid = std::process::id();
+    loop {
+        let current = SHARED.load(Ordering::Acquire);
+        // SAFETY: non-NULL values of SHARED come from Box::into_raw below and are never freed.
+        if let Some(p) = unsafe { current.as_ref() } {
+            if p.pid == pid {
+                return Some(&p.pool);
+            }
+        }
+        // First use, or a forked child holding its parent's pool: that one is left as it is
+        // (its memory is this process's copy, its threads are not here). The new pool owns
+        // its workers, so their handles are let go.
+        let (pool, _detached) = build(None).ok()?;
+        let fresh = Box::into_raw(Box::new(ProcessPool { pid, pool }));
+        match SHARED.compare_exchange(current, fresh, Ordering::AcqRel, Ordering::Acquire) {
+            // SAFETY: just published from Box::into_raw; never freed.
+            Ok(_) => return Some(unsafe { &(*fresh).pool }),
+            // Another thread published a pool first: use that one, stop ours.
+            // SAFETY: `fresh` was never published, so this is its only owner.
+            Err(_) => drop(unsafe { Box::from_raw(fresh) }),
+        }
+    }
+}
+
+/// Builds a pool of `threads` workers (by default `RAYON_NUM_THREADS`, else the available
+/// parallelism) and returns it with the workers' handles. When a thread cannot start, the
+/// threads already started are joined before the error is returned.
+fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), String> {
+    let mut started = Vec::new();
+    let built = ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .thread_name(|i| format!("quadopt-{i}"))
+        .spawn_handler(|thread| {
+            spawn_allowed(thread.index())?;
+            let mut b = std::thread::Builder::new();
+            if let Some(name) = thread.name() {
+                b = b.name(name.to_owned());
+            }
+            if let Some(size) = thread.stack_size() {
+                b = b.stack_size(size);
+            }
+            started.push(b.spawn(move || run_worker(thread))?);
+            Ok(())
+        })
+        .build();
+    match built {
+        Ok(pool) => Ok((pool, started)),
+        Err(e) => {
+            // rayon has told the started workers to stop; wait until they have.
+            for handle in started {
+                let _ = handle.join();
+            }
+            Err(e.to_string())
+        }
+    }
+}
+
+/// The body of every worker thread.
+fn run_worker(thread: ThreadBuilder) {
+    super::quiet::mark_worker_thread();
+    thread.run();
+}
+
+#[cfg(test)]
+fn spawn_allowed(index: usize) -> std::io::Result<()> {
+    if index < THREAD_LIMIT.load(Ordering::SeqCst) {
+        return Ok(());
+    }
+    Err(std::io::Error::new(std::io::ErrorKind::WouldBlock, "thread limit (test hook)"))
+}
+
+#[cfg(not(test))]
+fn spawn_allowed(_index: usize) -> std::io::Result<()> {
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! The memory the C ABI checks for before building a topology and running the optimizer
+//! (`quadopt::ffi::topology_bytes`, `quadopt::ffi::run_bytes`) is an upper bound of what they
+//! allocate at their peak, measured by a counting allocator over meshes of different shapes,
+//! every method and every boundary mode. If the optimizer's memory grows, this test says by
+//! how much the estimate in src/ffi.rs must grow.
+
+use quadopt::ffi::{run_bytes, topology_bytes};
+use quadopt::synthetic::Synthetic;
+use quadopt::{BoundaryMode, Method, Optimizer, Options, QuadMesh};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
+
+/// The system allocator, counting the bytes live now and the most live since the last reset.
+struct Counting;
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call is forwarded to the system allocator unchanged; only counters are added.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: forwarded with the caller's guarantees.
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            PEAK.fetch_max(LIVE.fetch_add(layout.size(), SeqCst) + layout.size(), SeqCst);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
+        // SAFETY: forwarded with the caller's guarantees.
+        unsafe { System.dealloc(p, layout) };
+        LIVE.fetch_sub(layout.size(), SeqCst);
+    }
+}
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+/// Peak bytes allocated by `f` beyond what was live when it started.
+fn peak_of<R>(f: impl FnOnce() -> R) -> (R, usize) {
+    let start = LIVE.load(SeqCst);
+    PEAK.store(start, SeqCst);
+    let r = f();
+    (r, PEAK.load(SeqCst) - start)
+}
+
+/// A fan of `n` quads around vertex 0, pushed outside it (as in tests/fans.rs): one vertex of
+/// degree `n`, most quads inverted.
+fn tangled_fan(n: u32) -> QuadMesh {
+    use quadopt::DVec2;
+    use std::f64::consts::TAU;
+    let mut points = vec![DVec2::new(2.0, 0.3)];
+    for i in 0..n {
+        let (a, d) = (TAU * f64::from(i) / f64::from(n), TAU * (f64::from(i) + 0.5) / f64::from(n));
+        points.push(DVec2::new(a.cos(), a.sin()));
+        points.push(DVec2::new(d.cos(), d.sin()) * 1.5);
+    }
+    let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
+    QuadMesh::new(points, quads, None).unwrap()
+}
+
+/// (name, mesh): a plain grid, a tangled one, one with many holes, a strip whose every vertex
+/// is on the boundary, a tangled fan and a tiny grid.
+fn meshes() -> Vec<(&'static str, QuadMesh)> {
+    let s = Synthetic { nx: 80, ny: 80, ..Synthetic::default() };
+    vec![
+        ("grid", s.generate()),
+        ("tangled grid", Synthetic { jitter: 0.45, ..s }.generate()),
+        ("holes", Synthetic { holes: 200, ..s }.generate()),
+        ("strip", Synthetic { nx: 3000, ny: 1, holes: 0, jitter: 0.0, ..s }.generate()),
+        ("fan", tangled_fan(2000)),
+        ("small", Synthetic { nx: 3, ny: 3, holes: 0, ..s }.generate()),
+    ]
+}
+
+#[test]
+fn topology_and_runs_stay_within_the_memory_checked_for() {
+    // One test, so nothing else allocates while it measures.
+    let mut worst = (0.0f64, 0.0f64);
+    for (name, mesh) in meshes() {
+        let (optimizer, topology) = peak_of(|| Optimizer::new(&mesh));
+        let estimate = topology_bytes(&mesh) as usize;
+        assert!(
+            topology <= estimate,
+            "{name}: the topology took {topology} bytes, {estimate} were checked for"
+        );
+        worst.0 = worst.0.max(topology as f64 / estimate as f64);
+        let mut run_worst = 0;
+        for method in Method::ALL {
+            for boundary in BoundaryMode::ALL {
+                let options = Options { method, boundary, max_iterations: 20, ..Options::default() };
+                let mut m = mesh.clone();
+                let (report, run) = peak_of(|| optimizer.run(&mut m, &options, None));
+                report.unwrap();
+                let estimate = run_bytes(&mesh) as usize;
+                assert!(
+                    run <= estimate,
+                    "{name}, {method:?}, {boundary:?}: the run took {run} bytes, {estimate} were checked for"
+                );
+                worst.1 = worst.1.max(run as f64 / estimate as f64);
+                run_worst = run_worst.max(run);
+            }
+        }
+        let (v, q, b) = (mesh.points().len(), mesh.quads().len(), mesh.boundary_edge_count());
+        println!(
+            "{name}: V {v} Q {q} B {b} topology {topology} ({:.1}/V) run {run_worst} ({:.1}/V)",
+            topology as f64 / v as f64,
+            run_worst as f64 / v as f64
+        );
+    }
+    // Report how tight the estimates are (shown with --nocapture).
+    println!("largest share of the estimate used: topology {:.2}, run {:.2}", worst.0, worst.1);
+}

@@ -1,7 +1,7 @@
 //! Criterion benchmarks of the optimizer on synthetic meshes (a grid with four circular holes
 //! and jittered interior vertices, see `quadopt::synthetic`) of about 10k, 100k and 1M quads:
 //!
-//! - `sweep/N`: one embedded-polygon sweep with sliding boundary (plus the per-run set-up a
+//! - `sweep/N`: one embedded-polygon sweep with sliding boundary, no max-min stage (plus the per-run set-up a
 //!   sweep cannot do without: corner detection, boundary geometry and the quality of the
 //!   result), topology built once outside the timing;
 //! - `optimize/N`: a full run with the default options (untangling, guarded moves, automatic
@@ -104,6 +104,7 @@ fn benches(c: &mut Criterion) {
             boundary: BoundaryMode::Slide,
             max_iterations: 1,
             untangle: false,
+            max_min: false,
             ..Options::default()
         };
         group.bench_function(BenchmarkId::new("sweep", n), |b| {

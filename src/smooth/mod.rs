@@ -136,7 +136,8 @@ impl Optimizer {
             let modes = vec![options.boundary; topo.loop_count()];
             (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
         };
-        let max_min = if options.max_min && !pass.cancelled {
+        // A minimum within the ranking's tie threshold of a perfect quad has nothing to gain.
+        let max_min = if options.max_min && !pass.cancelled && pass.stats.min < 1.0 - ranking::MIN_TIE {
             ctx.max_min_stage(&mut pass, &mut progress)
         } else {
             None

@@ -416,7 +416,7 @@ static void test_errors(void) {
   quadopt_options_default(&o);
   o.struct_size = 0;
   EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "struct_size");
-  o.struct_size = (uint32_t)sizeof(QuadoptOptions) - 8;
+  o.struct_size = (uint32_t)offsetof(QuadoptOptions, max_min) - 8; /* shorter than the first version */
   EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "struct_size");
   {
     QuadoptReport small = quadopt_report_init();

@@ -42,8 +42,12 @@ void test_options() {
       .guard_floor(0.1)
       .untangle(false)
       .keep_best(false)
-      .max_boundary_deviation(0.25);
+      .max_boundary_deviation(0.25)
+      .max_min(false)
+      .stop_rule(QUADOPT_STOP_RULE_QUALITY);
   const QuadoptOptions &r = o.raw();
+  CHECK(r.max_min == 0 && r.stop_rule == QUADOPT_STOP_RULE_QUALITY);
+  CHECK(quadopt::Options().raw().max_min == 1);
   CHECK(r.method == QUADOPT_METHOD_COTANGENT && r.boundary == QUADOPT_BOUNDARY_SNAP);
   CHECK(r.max_iterations == 17 && r.lambda == 0.5 && r.tau == 1e-9 && r.tau_absolute == 1);
   CHECK(r.feature_angle_deg == 30 && r.guard == 0 && r.guard_floor == 0.1 && r.untangle == 0 && r.keep_best == 0);

@@ -186,6 +186,33 @@ typedef uint32_t QuadoptBoundary;
 #endif // __cplusplus
 
 /**
+ * When a run stops, stored as a `uint32_t` in `QuadoptOptions::stop_rule`.
+ */
+enum QuadoptStopRule
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * When the collective energy changes by less than `tau` (per movable vertex, or
+     * absolute with `tau_absolute`), as in the paper.
+     */
+    QUADOPT_STOP_RULE_ENERGY = 0,
+    /**
+     * When the result stops improving: two sweeps in a row that lower no inverted count and
+     * raise the minimum scaled Jacobian by at most 1e-3 and the average by at most 1e-4.
+     */
+    QUADOPT_STOP_RULE_QUALITY = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum QuadoptStopRule QuadoptStopRule;
+#else
+typedef uint32_t QuadoptStopRule;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * A reusable optimizer for one connectivity (quads, fixed flags, vertex count), built once
  * by `quadopt_optimizer_create()` and immutable afterwards: several threads may call
  * `quadopt_optimizer_optimize()` with one handle at the same time. Opaque to C.
@@ -309,6 +336,16 @@ typedef struct QuadoptOptions {
      * Passed unchanged to `progress` (default NULL).
      */
     void *progress_user_data;
+    /**
+     * Nonzero: the max-min stage after the sweeps, which raises the worst quad and never
+     * lowers the minimum (default 1). Added in 0.2: a caller's struct without it (its
+     * `struct_size` ends before this field) gets the default.
+     */
+    uint32_t max_min;
+    /**
+     * Reserved; set to 0. Ignored by this version.
+     */
+    uint32_t reserved1;
 } QuadoptOptions;
 
 /**
@@ -421,6 +458,20 @@ typedef struct QuadoptReport {
      * Boundary loops whose vertices were kept fixed.
      */
     size_t loops_fixed;
+    /**
+     * 1 when the max-min stage ran and its result was kept, else 0 (then `sweeps` equals
+     * `output`). Added in 0.2: written only when the caller's `struct_size` covers it.
+     */
+    uint32_t max_min;
+    /**
+     * Reserved; written as 0.
+     */
+    uint32_t reserved1;
+    /**
+     * Quality after the sweeps, before the max-min stage: `output` minus `sweeps` is the
+     * stage's gain.
+     */
+    struct QuadoptQuality sweeps;
 } QuadoptReport;
 
 #ifdef __cplusplus

@@ -199,6 +199,12 @@ pub struct QuadoptOptions {
     pub progress: QuadoptProgressFn,
     /// Passed unchanged to `progress` (default NULL).
     pub progress_user_data: *mut c_void,
+    /// Nonzero: the max-min stage after the sweeps, which raises the worst quad and never
+    /// lowers the minimum (default 1). Added in 0.2: a caller's struct without it (its
+    /// `struct_size` ends before this field) gets the default.
+    pub max_min: u32,
+    /// Reserved; set to 0. Ignored by this version.
+    pub reserved1: u32,
 }
 
 /// Quality statistics of a set of quads (signed scaled Jacobian, Verdict's definition,
@@ -263,6 +269,14 @@ pub struct QuadoptReport {
     pub loops_snap: usize,
     /// Boundary loops whose vertices were kept fixed.
     pub loops_fixed: usize,
+    /// 1 when the max-min stage ran and its result was kept, else 0 (then `sweeps` equals
+    /// `output`). Added in 0.2: written only when the caller's `struct_size` covers it.
+    pub max_min: u32,
+    /// Reserved; written as 0.
+    pub reserved1: u32,
+    /// Quality after the sweeps, before the max-min stage: `output` minus `sweeps` is the
+    /// stage's gain.
+    pub sweeps: QuadoptQuality,
 }
 
 /// A reusable optimizer for one connectivity (quads, fixed flags, vertex count), built once
@@ -372,11 +386,11 @@ fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
 
 /// Size of the first published `QuadoptOptions`: callers' structs must be at least this large.
 /// Fields added later are appended and read only when the caller's `struct_size` covers them.
-/// This is the first version; when a field is appended, keep the old struct as
-/// `QuadoptOptionsV1` and take its size here.
-const OPTIONS_V1_SIZE: usize = size_of::<QuadoptOptions>();
-/// Size of the first published `QuadoptReport` (the same growth rule).
-const REPORT_V1_SIZE: usize = size_of::<QuadoptReport>();
+/// The first version ended where `max_min` (added in 0.2) begins.
+const OPTIONS_V1_SIZE: usize = std::mem::offset_of!(QuadoptOptions, max_min);
+/// Size of the first published `QuadoptReport` (the same growth rule): it ended where
+/// `max_min` begins.
+const REPORT_V1_SIZE: usize = std::mem::offset_of!(QuadoptReport, max_min);
 
 /// Checks the caller's array `ptr[0..len]` without touching it: NULL is accepted only with
 /// `len == 0`, the pointer must be aligned and the byte size must fit in `isize::MAX` (what
@@ -612,7 +626,7 @@ fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         untangle: o.untangle != 0,
         keep_best: o.keep_best != 0,
         max_boundary_deviation,
-        max_min: true,
+        max_min: o.max_min != 0,
     };
     options.validate()?;
     Ok(options)
@@ -696,6 +710,9 @@ fn report_of(r: &Report) -> QuadoptReport {
         loops_slide: count(BoundaryMode::Slide),
         loops_snap: count(BoundaryMode::Snap),
         loops_fixed: count(BoundaryMode::Fixed),
+        max_min: u32::from(r.max_min.is_some()),
+        reserved1: 0,
+        sweeps: quality_of(&r.max_min.map_or(r.output, |g| g.before)),
     }
 }
 
@@ -718,6 +735,8 @@ fn default_options() -> QuadoptOptions {
         stop_rule: QuadoptStopRule::Energy as u32,
         progress: None,
         progress_user_data: std::ptr::null_mut(),
+        max_min: u32::from(d.max_min),
+        reserved1: 0,
     }
 }
 
@@ -1486,11 +1505,74 @@ mod tests {
         // Too small, or NULL: an error, nothing written.
         let mut o = quadopt_options_defaults();
         o.lambda = 0.5;
-        let status = unsafe { quadopt_options_init(&raw mut o, size_of::<QuadoptOptions>() - 8) };
+        let status = unsafe { quadopt_options_init(&raw mut o, OPTIONS_V1_SIZE - 8) };
         assert_eq!(status, QuadoptStatus::InvalidArgument);
         assert_eq!(o.lambda, 0.5);
         let status = unsafe { quadopt_options_init(std::ptr::null_mut(), 64) };
         assert_eq!(status, QuadoptStatus::NullPointer);
+    }
+
+    /// The sample mesh data/plate_2holes.vtk as flat arrays: the max-min stage raises its
+    /// minimum (0.753 after the sweeps).
+    fn plate_2holes() -> (Vec<f64>, Vec<u32>) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/plate_2holes.vtk");
+        let data = crate::io::read_mesh(path).unwrap();
+        let coords = data.points.iter().flat_map(|p| [p[0], p[1]]).collect();
+        (coords, data.quads.iter().flatten().copied().collect())
+    }
+
+    fn run_plate(options: &QuadoptOptions, report_size: usize) -> (Vec<f64>, QuadoptReport) {
+        let (mut coords, quads) = plate_2holes();
+        let mut report = QuadoptReport { struct_size: report_size as u32, ..sentinel_report() };
+        report.max_min = 0xA5A5_A5A5;
+        report.sweeps.min = -9.0;
+        // SAFETY: live buffers of the stated lengths; the report holds its declared bytes.
+        let status = unsafe {
+            quadopt_optimize(
+                coords.as_mut_ptr(),
+                2,
+                coords.len() / 2,
+                quads.as_ptr(),
+                quads.len() / 4,
+                null(),
+                options,
+                &mut report,
+            )
+        };
+        assert_eq!(status, QuadoptStatus::Ok, "{}", last_error());
+        (coords, report)
+    }
+
+    #[test]
+    fn the_max_min_stage_is_an_option_and_its_gain_is_reported() {
+        let on = default_options();
+        assert_eq!(on.max_min, 1, "on by default");
+        let (with, r) = run_plate(&on, size_of::<QuadoptReport>());
+        assert_eq!(r.max_min, 1);
+        assert!(r.output.min > r.sweeps.min + 0.05, "{:?} -> {:?}", r.sweeps, r.output);
+        assert!(r.output.avg >= r.sweeps.avg - 1e-3);
+        let off = QuadoptOptions { max_min: 0, ..on };
+        let (without, r0) = run_plate(&off, size_of::<QuadoptReport>());
+        assert_eq!(r0.max_min, 0);
+        assert_eq!(bytes_of(&r0.sweeps), bytes_of(&r0.output), "no stage: sweeps == output");
+        assert_eq!(bytes_of(&r0.output), bytes_of(&r.sweeps), "the same sweeps either way");
+        assert_ne!(bits(&with), bits(&without));
+    }
+
+    #[test]
+    fn first_version_structs_get_the_new_defaults_and_their_bytes_only() {
+        // A caller compiled against the first header: its options end before `max_min`, its
+        // report before `max_min` too.
+        let mut v1 = default_options();
+        v1.struct_size = OPTIONS_V1_SIZE as u32;
+        v1.max_min = 0; // beyond the caller's struct: must not be read
+        let (points, r) = run_plate(&v1, REPORT_V1_SIZE);
+        let (expected, _) = run_plate(&default_options(), size_of::<QuadoptReport>());
+        assert_eq!(bits(&points), bits(&expected), "a v1 caller gets the stage (the default)");
+        assert_eq!(r.struct_size as usize, REPORT_V1_SIZE, "bytes filled");
+        assert_eq!((r.max_min, r.sweeps.min), (0xA5A5_A5A5, -9.0), "fields beyond v1 written");
+        assert_eq!(OPTIONS_V1_SIZE, 80);
+        assert_eq!(REPORT_V1_SIZE, 200);
     }
 
     #[test]
@@ -1949,12 +2031,14 @@ mod tests {
         // The spec's field order packs without holes on LP64 (checked so that the byte copies
         // of the prefix protocol never copy padding, and as a guard against reordering).
         if size_of::<usize>() == 8 {
-            assert_eq!(size_of::<QuadoptOptions>(), 80);
-            assert_eq!(size_of::<QuadoptReport>(), 200);
+            assert_eq!(size_of::<QuadoptOptions>(), 88);
+            assert_eq!(size_of::<QuadoptReport>(), 240);
             assert_eq!(size_of::<QuadoptQuality>(), 32);
             assert_eq!(size_of::<QuadoptProgress>(), 48);
             assert_eq!(std::mem::offset_of!(QuadoptOptions, progress), 64);
             assert_eq!(std::mem::offset_of!(QuadoptReport, loops_fixed), 192);
+            assert_eq!(std::mem::offset_of!(QuadoptOptions, max_min), 80);
+            assert_eq!(std::mem::offset_of!(QuadoptReport, sweeps), 208);
         }
         assert_eq!(size_of::<QuadoptStatus>(), size_of::<std::ffi::c_int>());
     }

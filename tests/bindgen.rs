@@ -99,7 +99,9 @@ fn struct_layouts_match_the_rust_definitions() {
             keep_best,
             stop_rule,
             progress,
-            progress_user_data
+            progress_user_data,
+            max_min,
+            reserved1
         ]
     );
     same_layout!(
@@ -125,7 +127,10 @@ fn struct_layouts_match_the_rust_definitions() {
             hausdorff_relative,
             loops_slide,
             loops_snap,
-            loops_fixed
+            loops_fixed,
+            max_min,
+            reserved1,
+            sweeps
         ]
     );
     assert_eq!(size_of::<sys::QuadoptStatus>(), size_of::<ffi::QuadoptStatus>());
@@ -253,7 +258,8 @@ fn errors_and_report_size_through_the_header() {
         assert_eq!(s, sys::QUADOPT_STATUS_INVALID_OPTION);
         assert!(last_error().contains("invalid option boundary"), "{}", last_error());
         let mut report = sys::quadopt_report_init();
-        report.struct_size -= 8;
+        // Smaller than the first published report (which ended where `max_min` begins).
+        report.struct_size = (std::mem::offset_of!(sys::QuadoptReport, max_min) - 8) as u32;
         let s = sys::quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), null(), &mut report);
         assert_eq!(s, sys::QUADOPT_STATUS_INVALID_ARGUMENT);
         assert_eq!(report.iterations, 0);
@@ -365,6 +371,8 @@ fn check_c_layouts(stdout: &str) {
         ("QuadoptReport initial_energy", offset_of!(QuadoptReport, initial_energy)),
         ("QuadoptReport hausdorff_relative", offset_of!(QuadoptReport, hausdorff_relative)),
         ("QuadoptReport loops_fixed", offset_of!(QuadoptReport, loops_fixed)),
+        ("QuadoptOptions max_min", offset_of!(QuadoptOptions, max_min)),
+        ("QuadoptReport sweeps", offset_of!(QuadoptReport, sweeps)),
         ("QuadoptProgress energy_change", offset_of!(QuadoptProgress, energy_change)),
     ];
     let mut seen = 0;

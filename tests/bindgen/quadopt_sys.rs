@@ -32,6 +32,9 @@ pub const QUADOPT_BOUNDARY_FIXED: QuadoptBoundary = 1;
 pub const QUADOPT_BOUNDARY_SLIDE: QuadoptBoundary = 2;
 pub const QUADOPT_BOUNDARY_SNAP: QuadoptBoundary = 3;
 pub type QuadoptBoundary = u32;
+pub const QUADOPT_STOP_RULE_ENERGY: QuadoptStopRule = 0;
+pub const QUADOPT_STOP_RULE_QUALITY: QuadoptStopRule = 1;
+pub type QuadoptStopRule = u32;
 #[repr(C)]
 #[derive(Debug)]
 pub struct QuadoptOptimizer {
@@ -95,10 +98,12 @@ pub struct QuadoptOptions {
     pub stop_rule: u32,
     pub progress: QuadoptProgressFn,
     pub progress_user_data: *mut ::std::os::raw::c_void,
+    pub max_min: u32,
+    pub reserved1: u32,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of QuadoptOptions"][::std::mem::size_of::<QuadoptOptions>() - 80usize];
+    ["Size of QuadoptOptions"][::std::mem::size_of::<QuadoptOptions>() - 88usize];
     ["Alignment of QuadoptOptions"][::std::mem::align_of::<QuadoptOptions>() - 8usize];
     [
         "Offset of field: QuadoptOptions::struct_size",
@@ -148,6 +153,12 @@ const _: () = {
     [
         "Offset of field: QuadoptOptions::progress_user_data",
     ][::std::mem::offset_of!(QuadoptOptions, progress_user_data) - 72usize];
+    [
+        "Offset of field: QuadoptOptions::max_min",
+    ][::std::mem::offset_of!(QuadoptOptions, max_min) - 80usize];
+    [
+        "Offset of field: QuadoptOptions::reserved1",
+    ][::std::mem::offset_of!(QuadoptOptions, reserved1) - 84usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]
@@ -197,10 +208,13 @@ pub struct QuadoptReport {
     pub loops_slide: usize,
     pub loops_snap: usize,
     pub loops_fixed: usize,
+    pub max_min: u32,
+    pub reserved1: u32,
+    pub sweeps: QuadoptQuality,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 200usize];
+    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 240usize];
     ["Alignment of QuadoptReport"][::std::mem::align_of::<QuadoptReport>() - 8usize];
     [
         "Offset of field: QuadoptReport::struct_size",
@@ -262,6 +276,15 @@ const _: () = {
     [
         "Offset of field: QuadoptReport::loops_fixed",
     ][::std::mem::offset_of!(QuadoptReport, loops_fixed) - 192usize];
+    [
+        "Offset of field: QuadoptReport::max_min",
+    ][::std::mem::offset_of!(QuadoptReport, max_min) - 200usize];
+    [
+        "Offset of field: QuadoptReport::reserved1",
+    ][::std::mem::offset_of!(QuadoptReport, reserved1) - 204usize];
+    [
+        "Offset of field: QuadoptReport::sweeps",
+    ][::std::mem::offset_of!(QuadoptReport, sweeps) - 208usize];
 };
 unsafe extern "C" {
     pub fn quadopt_status_string(status: i32) -> *const ::std::os::raw::c_char;

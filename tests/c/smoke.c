@@ -84,6 +84,8 @@ int main(void) {
     LAYOUT(QuadoptReport, initial_energy);
     LAYOUT(QuadoptReport, hausdorff_relative);
     LAYOUT(QuadoptReport, loops_fixed);
+    LAYOUT(QuadoptOptions, max_min);
+    LAYOUT(QuadoptReport, sweeps);
     LAYOUT(QuadoptProgress, energy_change);
 
     /* Version. */

@@ -18,50 +18,17 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use quadopt::synthetic::Synthetic;
 use quadopt::{BoundaryMode, Optimizer, Options, Topology};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
-/// Counts the bytes live on the heap and their peak, to report the library's working set.
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator; the counters are only statistics.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: the caller's contract is passed on unchanged.
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(live, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as above.
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-/// Peak heap bytes allocated by `f` beyond what was live when it started.
-fn peak_bytes(f: impl FnOnce()) -> usize {
-    let base = LIVE.load(Ordering::Relaxed);
-    PEAK.store(base, Ordering::Relaxed);
-    f();
-    PEAK.load(Ordering::Relaxed) - base
-}
+#[path = "../tests/common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::peak_of;
 
 /// Prints the working set of a default run (topology included) per vertex.
 fn report_working_set(mesh: &quadopt::QuadMesh) {
     let vertices = mesh.points().len();
-    let bytes = peak_bytes(|| {
+    let ((), bytes) = peak_of(|| {
         let mut m = mesh.clone();
         let optimizer = Optimizer::new(&m);
         optimizer.run(&mut m, &Options::default(), None).unwrap();

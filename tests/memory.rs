@@ -7,42 +7,9 @@
 use quadopt::ffi::{run_bytes, topology_bytes};
 use quadopt::synthetic::Synthetic;
 use quadopt::{BoundaryMode, Method, Optimizer, Options, QuadMesh};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
-
-/// The system allocator, counting the bytes live now and the most live since the last reset.
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: every call is forwarded to the system allocator unchanged; only counters are added.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: forwarded with the caller's guarantees.
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            PEAK.fetch_max(LIVE.fetch_add(layout.size(), SeqCst) + layout.size(), SeqCst);
-        }
-        p
-    }
-
-    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
-        // SAFETY: forwarded with the caller's guarantees.
-        unsafe { System.dealloc(p, layout) };
-        LIVE.fetch_sub(layout.size(), SeqCst);
-    }
-}
-
-#[global_allocator]
-static COUNTING: Counting = Counting;
-
-/// Peak bytes allocated by `f` beyond what was live when it started.
-fn peak_of<R>(f: impl FnOnce() -> R) -> (R, usize) {
-    let start = LIVE.load(SeqCst);
-    PEAK.store(start, SeqCst);
-    let r = f();
-    (r, PEAK.load(SeqCst) - start)
-}
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::peak_of;
 
 /// A fan of `n` quads around vertex 0, pushed outside it (as in tests/fans.rs): one vertex of
 /// degree `n`, most quads inverted.

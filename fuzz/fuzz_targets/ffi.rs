@@ -12,7 +12,7 @@ use libfuzzer_sys::fuzz_target;
 use quadopt::ffi::{
     self, QuadoptOptimizer, QuadoptOptions, QuadoptProgress, QuadoptQuality, QuadoptReport, QuadoptStatus,
 };
-use quadopt::{BoundaryMode, DVec2, Method, Options, QuadMesh};
+use quadopt::{BoundaryMode, DVec2, Method, Options, QuadMesh, StopRule};
 use quadopt_fuzz::{MAX_ITERATIONS, RawMesh};
 use std::ffi::{CStr, c_void};
 use std::mem::size_of;
@@ -134,6 +134,11 @@ fn rust_options(o: &QuadoptOptions) -> Option<Options> {
             _ => return None,
         },
         lambda: o.lambda,
+        stop: match o.stop_rule {
+            0 => StopRule::Energy,
+            1 => StopRule::Quality,
+            _ => return None,
+        },
         tau: o.tau,
         tau_absolute: o.tau_absolute != 0,
         max_iterations: o.max_iterations as usize,
@@ -148,6 +153,7 @@ fn rust_options(o: &QuadoptOptions) -> Option<Options> {
         } else {
             Some(o.max_boundary_deviation)
         },
+        max_min: o.max_min != 0,
     })
 }
 
@@ -197,8 +203,12 @@ fn run(input: Input) {
     let fixed_ptr = fixed_bytes.as_ref().map_or(std::ptr::null(), |f| f.as_ptr());
 
     // Options.
-    let mut cancel_state =
-        CancelState { calls: 0, limit: u32::MAX, caller: std::thread::current().id(), on_another_thread: false };
+    let mut cancel_state = CancelState {
+        calls: 0,
+        limit: u32::MAX,
+        caller: std::thread::current().id(),
+        on_another_thread: false,
+    };
     let mut options_buffer = OptionsBuffer { options: ffi::quadopt_options_defaults(), tail: [0; 8] };
     let options_ptr: *const QuadoptOptions = match &input.options {
         None => std::ptr::null(),

@@ -7,7 +7,7 @@
 //! crash that libFuzzer reports and minimizes, just like a panic.
 
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
-use quadopt::{BoundaryMode, DVec2, Error, Method, Options, QuadMesh, optimize};
+use quadopt::{BoundaryMode, DVec2, Error, Method, Options, QuadMesh, StopRule, optimize};
 
 /// Largest mesh (vertices) the targets optimize: the optimizer is too slow on large random
 /// arrays for a useful number of executions per second.
@@ -68,6 +68,9 @@ pub struct RawOptions {
     untangle: bool,
     keep_best: bool,
     max_boundary_deviation: Option<f64>,
+    max_min: bool,
+    /// The quality stopping rule instead of the energy rule.
+    quality_stop: bool,
     /// Use the defaults for the real-valued fields (arbitrary floats are mostly invalid).
     default_reals: bool,
 }
@@ -90,6 +93,8 @@ impl RawOptions {
             untangle: self.untangle,
             keep_best: self.keep_best,
             max_boundary_deviation: if reals { self.max_boundary_deviation } else { None },
+            max_min: self.max_min,
+            stop: if self.quality_stop { StopRule::Quality } else { StopRule::Energy },
         }
     }
 }

@@ -12,20 +12,12 @@
 //! the smallest in each quad, those corners add up to 360 degrees, so their minimum is at most
 //! 360/n degrees, reached only with all equal; its scaled Jacobian is sin(2 pi / n).
 
-use quadopt::{DVec2, Optimizer, Options, Progress, QuadMesh, Topology, topology::VertexKind};
+use quadopt::{Optimizer, Options, Progress, QuadMesh, Topology, topology::VertexKind};
 use std::f64::consts::TAU;
 
-/// The fan of `n` quads scaled by `scale`, with its centre pushed outside it.
-fn tangled_fan(n: u32, scale: f64) -> QuadMesh {
-    let mut points = vec![DVec2::new(2.0, 0.3) * scale];
-    for i in 0..n {
-        let (a, d) = (TAU * i as f64 / n as f64, TAU * (i as f64 + 0.5) / n as f64);
-        points.push(DVec2::new(a.cos(), a.sin()) * scale);
-        points.push(DVec2::new(d.cos(), d.sin()) * (1.5 * scale));
-    }
-    let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
-    QuadMesh::new(points, quads, None).unwrap()
-}
+#[path = "common/fans.rs"]
+mod fans;
+use fans::tangled_fan;
 
 #[test]
 fn fans_of_800_and_2000_quads_are_untangled_at_every_scale() {

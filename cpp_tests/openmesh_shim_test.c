@@ -112,6 +112,22 @@ static void test_errors(void) {
     CHECK(s == OMSYS_READ_FAILED || s == OMSYS_INCOMPLETE);
     CHECK(strlen(omsys_mesh_error(m)) > 0);
   }
+  /* Every cut of an OFF file, and a binary PLY whose counts the data cannot hold, under the
+   * sanitizers: prevalidate.cpp refuses them before OpenMesh's readers loop on them. */
+  {
+    static const char off[] = "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+    static const char bin[] =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 4000000000\nproperty double x\n"
+        "property double y\nproperty double z\nelement face 1\nproperty list int int vertex_indices\n"
+        "end_header\n\x7f\xff\xff\xff";
+    for (cut = 0; cut + 1 < sizeof off - 1; ++cut) {
+      const OmsysStatus s = read_text(m, off, cut, "off");
+      CHECK(s == OMSYS_READ_FAILED || s == OMSYS_INCOMPLETE);
+    }
+    CHECK(read_text(m, off, sizeof off - 1, "off") == OMSYS_OK);
+    CHECK(read_text(m, bin, sizeof bin - 1, "ply") == OMSYS_READ_FAILED);
+    CHECK(strstr(omsys_mesh_error(m), "truncated") != NULL);
+  }
   /* A duplicated face: reported, not added with copies of its vertices. */
   CHECK(read_text(m, dup, sizeof dup - 1, "ply") == OMSYS_INCOMPLETE);
   CHECK(strstr(omsys_mesh_error(m), "face 1") != NULL);

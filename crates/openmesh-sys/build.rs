@@ -1,4 +1,4 @@
-//! Builds the C shim (shim/openmesh_shim.cpp) with the `cc` crate as C++17, generates the Rust
+//! Builds the C shim (shim/openmesh_shim.cpp, with the input checks of shim/prevalidate.cpp) with the `cc` crate as C++17, generates the Rust
 //! declarations of shim/openmesh_shim.h with bindgen, and links OpenMeshCore.
 //!
 //! OpenMesh is found, in this order:
@@ -56,7 +56,9 @@ fn from_pkg_config() -> Result<OpenMesh, String> {
 
 fn main() {
     println!("cargo:rerun-if-changed=shim/openmesh_shim.h");
-    println!("cargo:rerun-if-changed=shim/openmesh_shim.cpp");
+    for file in ["openmesh_shim.cpp", "prevalidate.cpp", "prevalidate.h", "failure.h"] {
+        println!("cargo:rerun-if-changed=shim/{file}");
+    }
     println!("cargo:rerun-if-env-changed=OPENMESH_DIR");
     println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
     println!("cargo:rerun-if-env-changed=PKG_CONFIG");
@@ -74,6 +76,7 @@ fn main() {
         .cpp(true)
         .std("c++17")
         .file("shim/openmesh_shim.cpp")
+        .file("shim/prevalidate.cpp")
         .include("shim")
         .includes(&om.include_dirs)
         // GCC 12 false positive inside OpenMesh 9.0's PropertyT<VectorT>::push_back().

@@ -8,6 +8,9 @@
 // outside OpenMesh's arrays or loop forever.
 #include "openmesh_shim.h"
 
+#include "failure.h"
+#include "prevalidate.h"
+
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/ImporterT.hh>
@@ -18,6 +21,7 @@
 #include <cstring>
 #include <iostream>
 #include <limits>
+#include <locale>
 #include <mutex>
 #include <new>
 #include <sstream>
@@ -57,13 +61,8 @@ struct OmsysMesh {
 
 namespace {
 
-/// A failure with a status, thrown inside the shim and turned into a return value at the edge.
-struct Failure {
-  OmsysStatus status;
-  std::string message;
-};
-
-[[noreturn]] void fail(OmsysStatus status, std::string message) { throw Failure{status, std::move(message)}; }
+using omsys::Failure;
+using omsys::fail;
 
 /// OpenMesh's readers and writers are singletons with per-call state, and omerr/omlog are
 /// process-wide: every call into OpenMesh::IO holds this lock.
@@ -251,124 +250,6 @@ uint32_t read_le32(const uint8_t *p) {
 void om_declared(const uint8_t *data, RecordingImporter &imp) {
   imp.declared_vertices = read_le32(data + 4);
   imp.declared_faces = read_le32(data + 8);
-}
-
-/// Whether a line "end_header" is present (the header is ASCII even in binary PLY).
-bool ply_header_complete(const uint8_t *data, std::size_t len) {
-  static const char kEnd[] = "end_header";
-  const std::size_t n = sizeof kEnd - 1;
-  for (std::size_t i = 0; i + n <= len; ++i) {
-    if ((i == 0 || data[i - 1] == '\n') && std::memcmp(data + i, kEnd, n) == 0 &&
-        (i + n == len || data[i + n] == '\n' || data[i + n] == '\r')) {
-      return true;
-    }
-  }
-  return false;
-}
-
-/// OpenMesh's OM reader trusts every size in the file and asserts on chunk headers it does not
-/// expect (Debian builds it with assertions: a corrupt file would abort the process). So the
-/// chunks are walked first, and only the layout OpenMesh 7 to 9 writes (OM 2.0 to 2.2) is
-/// passed on: known chunk kinds with the dimensions OpenMesh asserts, each inside the data, and
-/// each entity's chunks after the chunk that creates its elements (then every element count
-/// the reader checks against is the header's).
-void check_om_layout(const uint8_t *d, std::size_t len) {
-  const unsigned major = d[3] >> 5, minor = d[3] & 0x1f;
-  if (major != 2 || minor > 2) {
-    fail(OMSYS_READ_FAILED, "OM version " + std::to_string(major) + "." + std::to_string(minor) +
-                                " is not supported (OM 2.0 to 2.2, written by OpenMesh 7 to 9)");
-  }
-  const uint64_t nv = read_le32(d + 4), nf = read_le32(d + 8), ne = read_le32(d + 12);
-  std::size_t pos = 16, chunk = 16;
-  const auto corrupt = [&](const std::string &what) {
-    fail(OMSYS_READ_FAILED, "corrupt OM file: " + what + " (chunk at byte " + std::to_string(chunk) + ")");
-  };
-  const auto need = [&](uint64_t n) {
-    if (n > len - pos) corrupt("the data ends inside the chunk");
-  };
-  bool have_v = false, have_h = false, have_f = false;
-  for (;;) {
-    chunk = pos;
-    need(2);
-    const unsigned h = d[pos] | d[pos + 1] << 8;
-    pos += 2;
-    const unsigned named = (h >> 1) & 1, entity = (h >> 2) & 7, type = (h >> 5) & 15, is_float = (h >> 10) & 1,
-                   dim = (h >> 11) & 7, bits = (h >> 14) & 3;
-    if (entity == 7) return;  // the end-of-chunks marker
-    if (named) {
-      need(1);
-      const std::size_t n = d[pos];
-      need(1 + n);
-      pos += 1 + n;
-    }
-    uint64_t count;
-    bool created;  // the chunk that creates the entity's elements came before
-    switch (entity) {
-      case 0: count = nv, created = have_v; break;
-      case 1: count = 1, created = true; break;
-      case 2: count = nf, created = have_f; break;
-      case 4: count = ne, created = have_h; break;
-      case 6: count = 2 * ne, created = have_h; break;
-      default: corrupt("unknown entity " + std::to_string(entity));
-    }
-    const uint64_t int_size = uint64_t(1) << bits;
-    uint64_t size = 0;
-    switch (type) {
-      case 6: {  // custom property: [type name,] block size, block
-        if (!created) corrupt("a property before its elements");
-        if (minor >= 2) {
-          need(1);
-          const std::size_t n = d[pos];
-          need(1 + n);
-          pos += 1 + n;
-        }
-        need(4);
-        size = read_le32(d + pos);
-        pos += 4;
-        break;
-      }
-      case 7:  // topology
-        if (entity == 0 && have_v) {
-          size = nv * int_size;
-        } else if (entity == 6 && have_v && !have_h) {
-          size = ne * 6 * int_size;
-          have_h = true;
-        } else if (entity == 2 && have_h && !have_f) {
-          size = nf * int_size;
-          have_f = true;
-        } else {
-          corrupt("an unexpected topology chunk");
-        }
-        break;
-      case 0:  // positions
-        if (entity != 0 || have_v || dim != 2 || bits > 1) corrupt("an unexpected position chunk");
-        size = nv * 3 * (bits == 0 ? 4 : 8);
-        have_v = true;
-        break;
-      case 1:  // normals
-        if ((entity != 0 && entity != 2) || !created || dim != 2 || bits > 1) corrupt("an unexpected normal chunk");
-        size = count * 3 * (bits == 0 ? 4 : 8);
-        break;
-      case 2:  // texture coordinates: read as 2 floats
-        if (entity != 0 || !created || dim != 1 || bits != 0 || !is_float) corrupt("an unexpected texcoord chunk");
-        size = nv * 8;
-        break;
-      case 3:  // status: read as one unsigned int per element, whatever the header says
-        if (entity == 1 || !created || dim != 0) corrupt("an unexpected status chunk");
-        size = count * sizeof(unsigned int);
-        break;
-      case 4:  // colors: read as 3 bytes
-        if ((entity != 0 && entity != 2) || !created || dim != 2 || bits != 0 || is_float) {
-          corrupt("an unexpected color chunk");
-        }
-        size = count * 3;
-        break;
-      default:
-        corrupt("an unknown chunk type " + std::to_string(type));
-    }
-    need(size);
-    pos += size;
-  }
 }
 
 /// OBJ declares nothing: count its `v` and `f` statements.
@@ -570,22 +451,23 @@ void read_impl(OmsysMesh &h, const uint8_t *data, std::size_t len, const char *f
     opt += OpenMesh::IO::Options::Status;
   }
   RecordingImporter imp(m);
-  if (fmt == Format::Ply && !ply_header_complete(data, len)) {
-    // OpenMesh's PLY header parser loops forever on a header cut short.
-    fail(OMSYS_READ_FAILED, "the PLY header has no end_header line");
-  }
-  if (fmt == Format::Om && !(len >= 16 && data[0] == 'O' && data[1] == 'M')) {
-    // OpenMesh's OM reader accepts a file without a header as an empty mesh.
-    fail(OMSYS_READ_FAILED, "not an OM file (no OM header)");
-  }
-  if (fmt == Format::Om) {
-    check_om_layout(data, len);
-    om_declared(data, imp);
+  // OpenMesh's readers loop on stale values after a failed read, and its PLY header parser
+  // loops forever on a header cut short: only data they read to the end is passed on.
+  switch (fmt) {
+    case Format::Ply: omsys::check_ply(data, len); break;
+    case Format::Off: omsys::check_off(data, len); break;
+    case Format::Om:
+      omsys::check_om(data, len);
+      om_declared(data, imp);
+      break;
+    case Format::Obj: break;
   }
   if (fmt == Format::Obj) obj_declared(data, len, imp);
 
   std::string bytes(reinterpret_cast<const char *>(data), len);
   std::istringstream is(bytes, std::ios::in | std::ios::binary);
+  // Numbers as prevalidate.cpp checked them, whatever global locale the host program set.
+  is.imbue(std::locale::classic());
   // As OpenMesh's own file reader does: operator>> in the binary restore of bool properties
   // must not skip bytes that look like whitespace.
   if (fmt == Format::Om) is.unsetf(std::ios::skipws);

@@ -33,7 +33,9 @@
 //! non-manifold or duplicated faces with copies of their vertices; its readers stop quietly at
 //! the end of the data. The shim records what the file declared and what the reader passed on,
 //! and a read that lost anything is an [`Error::Incomplete`] naming the faces, never a smaller
-//! mesh. Truncated and corrupt files are errors too.
+//! mesh. Truncated and corrupt files are errors too, checked before OpenMesh's readers see them
+//! (they loop with stale values on data they fail to parse): see the crate's README for what
+//! each format must look like.
 
 #![warn(missing_docs)]
 

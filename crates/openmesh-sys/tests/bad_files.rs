@@ -140,3 +140,114 @@ fn a_list_fixed_property_is_an_error() {
     // OpenMesh reads a list property as a list of that name; quadopt's flags must be scalars.
     assert!(read_bytes(text.as_bytes(), Format::Ply).is_err());
 }
+
+/// A read error whose message contains `needle`.
+fn read_error(data: &[u8], format: Format, needle: &str) {
+    match read_bytes(data, format) {
+        Err(Error::Read { message }) => {
+            assert!(message.contains(needle), "{format}: {message:?} lacks {needle:?}")
+        }
+        other => panic!("{format}: {:?} gave {other:?}", String::from_utf8_lossy(data)),
+    }
+}
+
+const PLY_3V: &str =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+
+/// OpenMesh's readers loop over counts from the file after a failed read (OFF's counts are not
+/// even initialised when missing), pushing stale values: each of these cost minutes and
+/// gigabytes, or hung, before the shim's checks. Now each is an error naming the place.
+#[test]
+fn counts_the_data_cannot_hold_are_errors_not_hangs() {
+    for (data, needle) in [
+        ("OFF\n", "counts"),
+        ("OFF\n3 1", "counts"),
+        ("OFF\nx y z\n", "counts"),
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", "face 0: a vertex count larger"),
+        ("OFF\n4000000000 4000000000 0\n0 0 0\nx\n", "vertex 1: the coordinate 'x'"),
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n", "vertex 2: the data ends early"),
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "face 0: the data ends early"),
+    ] {
+        read_error(data.as_bytes(), Format::Off, needle);
+    }
+    for (body, needle) in [
+        (
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 x\n",
+            "face 0: the vertex index 'x'",
+        ),
+        (
+            "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n",
+            "vertex count larger",
+        ),
+        (
+            "element face 4000000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+            "face 1: the data ends early",
+        ),
+        (
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 1e39\n",
+            "the z value '1e39'",
+        ),
+        (
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 nan\n",
+            "the z value 'nan'",
+        ),
+    ] {
+        read_error(format!("{PLY_3V}{body}").as_bytes(), Format::Ply, needle);
+    }
+    let huge = PLY_HEAD.replace("element vertex 6", "element vertex 4000000000").replace("4 1 2 5 4\n", "");
+    read_error(huge.replace("0 1 0\n", "0 x 0\n").as_bytes(), Format::Ply, "the y value 'x'");
+    // Binary: a count of 2^31 - 1 vertex indices, and a vertex count the data cannot hold.
+    let binary = |vertices: u32, face: &[u8]| {
+        let mut d = format!("ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\nproperty float x\n\
+                             property float y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n")
+            .into_bytes();
+        d.extend_from_slice(&[0u8; 36]);
+        d.extend_from_slice(face);
+        d
+    };
+    read_error(&binary(3, &0x7fff_ffffu32.to_le_bytes()), Format::Ply, "face 0: the data ends early");
+    read_error(&binary(3, &u32::MAX.to_le_bytes()), Format::Ply, "negative vertex count");
+    read_error(&binary(4_000_000_000, &[3, 0, 0, 0]), Format::Ply, "vertex: the data ends early");
+    let ok = binary(3, &[3, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0]);
+    assert!(matches!(read_bytes(&ok, Format::Ply), Err(Error::Incomplete { .. }) | Ok(_)));
+}
+
+/// Header lines OpenMesh would read differently from what they say are refused, not misread.
+#[test]
+fn ply_headers_openmesh_misreads_are_errors() {
+    let tail = "element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    for (head, needle) in [
+        ("ply\nformat ascii 1.0\nproperty float x\n", "a property before any element"),
+        ("ply\nformat ascii 1.0\nobj_info made by hand\n", "not a PLY header line"),
+        ("ply\nformat ascii 1.0\nelement vertex 3\nproperty list uchar float x\n", "the only list property"),
+        ("ply\nformat ascii 1.0\nelement vertex 3\nproperty int x\n", "must be float or double"),
+        ("ply\nformat ascii 1.0\nelement vertex 3\nproperty half x\n", "unknown property type 'half'"),
+        ("ply\nformat ascii 2.0\n", "expected 'format"),
+    ] {
+        read_error(format!("{head}{tail}").as_bytes(), Format::Ply, needle);
+    }
+    let commented = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\nproperty float y\n\
+                     property float z\ncomment last\nend_header\n";
+    read_error(commented.as_bytes(), Format::Ply, "comment line just before end_header");
+    read_error(b"COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", Format::Off, "must be 'OFF' alone");
+}
+
+/// The checks accept what OpenMesh's own writers produce and ordinary variants of it.
+#[test]
+fn checked_formats_still_read() {
+    let crlf = ply("4 0 1 4 3\n4 1 2 5 4\n")
+        .iter()
+        .flat_map(|&b| if b == b'\n' { vec![b'\r', b'\n'] } else { vec![b] })
+        .collect::<Vec<_>>();
+    assert_eq!(read_bytes(&crlf, Format::Ply).unwrap().0.face_count(), 2);
+    let signs = ply("4 0 1 4 3\n4 1 2 5 4\n").iter().map(|&b| b).collect::<Vec<_>>();
+    let signs = String::from_utf8(signs).unwrap().replace("1 0 0\n", "+1.0e0 -0 .0\n");
+    assert_eq!(read_bytes(signs.as_bytes(), Format::Ply).unwrap().0.points[1], [1.0, 0.0, 0.0]);
+    let off = "OFF\n4 1 0\n0 0 0 extra\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+    assert_eq!(read_bytes(off.as_bytes(), Format::Off).unwrap().0.face(0), &[0, 1, 2, 3]);
+    for binary in [false, true] {
+        let bytes =
+            write_bytes(&grid(), Format::Ply, &WriteOptions { binary, ..WriteOptions::default() }).unwrap();
+        assert_eq!(read_bytes(&bytes, Format::Ply).unwrap().0, grid());
+    }
+}

@@ -199,8 +199,9 @@ enum QuadoptStopRule
      */
     QUADOPT_STOP_RULE_ENERGY = 0,
     /**
-     * When the result stops improving: two sweeps in a row that lower no inverted count and
-     * raise the minimum scaled Jacobian by at most 1e-3 and the average by at most 1e-4.
+     * When the result stops improving: checked every 5 sweeps, stop at the second window in a
+     * row that repaired no inverted quad and whose shrinking gains leave less than 5e-4 of
+     * minimum and 1e-4 of average scaled Jacobian to come (their geometric tail).
      */
     QUADOPT_STOP_RULE_QUALITY = 1,
 };

@@ -94,13 +94,15 @@ impl FromStr for BoundaryMode {
 /// When a run stops (besides the iteration cap and cancellation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum StopRule {
-    /// Stop when the result the user gets stops improving: after
-    /// [`StopRule::QUALITY_PATIENCE`] sweeps in a row that lowered no inverted count, raised
-    /// the minimum scaled Jacobian by no more than [`StopRule::QUALITY_MIN_GAIN`] and the
-    /// average by no more than [`StopRule::QUALITY_AVG_GAIN`]. Independent of mesh size (both
-    /// are per-quad quantities). Many times fewer sweeps than the energy rule, but on meshes
-    /// whose quality creeps up over hundreds of sweeps it stops short (measured cost: see the
-    /// README's stopping-rule section).
+    /// Stop when what the user gets stops improving: every [`StopRule::QUALITY_WINDOW`]
+    /// sweeps the best minimum and average scaled Jacobian reached so far are compared with
+    /// the two windows before; while the gains shrink geometrically, the gain still to come is
+    /// their geometric tail, g r / (1 - r) with r the ratio of the last two window gains. The
+    /// run stops at the second window in a row in which no inverted quad was repaired and the
+    /// tails left for the minimum and the average are below [`StopRule::QUALITY_MIN_LEFT`] and
+    /// [`StopRule::QUALITY_AVG_LEFT`] (a flat or oscillating series has no tail; a steady or
+    /// growing gain has an unbounded one, and the run goes on). Independent of mesh size: both
+    /// are per-quad quantities.
     Quality,
     /// Stop on the collective torsion-spring energy of Eq. 1: when its change falls below
     /// [`Options::tau`], per movable vertex or absolute as [`Options::tau_absolute`] says.
@@ -109,12 +111,12 @@ pub enum StopRule {
 }
 
 impl StopRule {
-    /// Sweeps without a significant gain after which [`StopRule::Quality`] stops.
-    pub const QUALITY_PATIENCE: usize = 2;
-    /// Gain of the minimum scaled Jacobian that counts as progress.
-    pub const QUALITY_MIN_GAIN: f64 = 1e-3;
-    /// Gain of the average scaled Jacobian that counts as progress.
-    pub const QUALITY_AVG_GAIN: f64 = 1e-4;
+    /// Sweeps per window of [`StopRule::Quality`].
+    pub const QUALITY_WINDOW: usize = 5;
+    /// Gain of the minimum scaled Jacobian still to come below which the quality rule may stop.
+    pub const QUALITY_MIN_LEFT: f64 = 5e-4;
+    /// Gain of the average scaled Jacobian still to come below which the quality rule may stop.
+    pub const QUALITY_AVG_LEFT: f64 = 1e-4;
 
     /// The short name used on the command line.
     pub fn name(self) -> &'static str {

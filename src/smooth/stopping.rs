@@ -11,9 +11,8 @@ pub struct Stopper {
     tau: f64,
     per_vertex: f64,
     energy_old: f64,
-    /// Best statistics seen by the quality rule and the sweeps since it last rose enough.
-    reference: Option<QualityStats>,
-    stalled: usize,
+    /// The quality rule's state.
+    quality: QualityTrend,
 }
 
 impl Stopper {
@@ -24,8 +23,7 @@ impl Stopper {
             tau: options.tau,
             per_vertex: if options.tau_absolute { 1.0 } else { movable.max(1) as f64 },
             energy_old: f64::NAN,
-            reference: None,
-            stalled: 0,
+            quality: QualityTrend::default(),
         }
     }
 
@@ -36,36 +34,76 @@ impl Stopper {
         self.energy_old = energy;
         let stop = match self.rule {
             StopRule::Energy => change / self.per_vertex < self.tau,
-            StopRule::Quality => {
-                let gained = self.reference.is_none_or(|r| significant_gain(stats, &r));
-                if gained {
-                    self.reference = Some(*stats);
-                    self.stalled = 0;
-                } else {
-                    self.stalled += 1;
-                }
-                self.stalled >= StopRule::QUALITY_PATIENCE
-            }
+            StopRule::Quality => self.quality.after_sweep(stats),
         };
         (stop, change)
     }
 
     /// Starts the quality rule from the statistics before the first sweep.
     pub fn start(&mut self, stats: &QualityStats) {
-        self.reference = Some(*stats);
+        self.quality = QualityTrend::default();
+        self.quality.best = Some(*stats);
+        self.quality.checkpoints.push(*stats);
     }
 }
 
-/// Whether `now` is significantly better than `before`: fewer inverted quads, or a minimum
-/// higher by more than the minimum gain, or an average higher by more than the average gain
-/// without the minimum falling by more than that (a trade the ranking would not take).
-fn significant_gain(now: &QualityStats, before: &QualityStats) -> bool {
-    if now.inverted != before.inverted {
-        return now.inverted < before.inverted;
+/// The best (fewest inverted, highest minimum, highest average) statistics of the sweeps so
+/// far, sampled every window, and how many windows in a row had little left to gain.
+#[derive(Default)]
+struct QualityTrend {
+    best: Option<QualityStats>,
+    sweeps: usize,
+    /// The best statistics at the end of each window (the first: the start).
+    checkpoints: Vec<QualityStats>,
+    settled: usize,
+}
+
+/// Windows in a row with little left to gain after which the quality rule stops.
+const SETTLED_WINDOWS: usize = 2;
+
+impl QualityTrend {
+    fn after_sweep(&mut self, stats: &QualityStats) -> bool {
+        let best = match self.best {
+            None => *stats,
+            Some(b) => QualityStats {
+                inverted: b.inverted.min(stats.inverted),
+                min: b.min.max(stats.min),
+                avg: b.avg.max(stats.avg),
+                max: b.max.max(stats.max),
+            },
+        };
+        self.best = Some(best);
+        self.sweeps += 1;
+        if self.sweeps % StopRule::QUALITY_WINDOW != 0 {
+            return false;
+        }
+        self.checkpoints.push(best);
+        let n = self.checkpoints.len();
+        if n < 3 {
+            return false;
+        }
+        let [c0, c1, c2] = [self.checkpoints[n - 3], self.checkpoints[n - 2], self.checkpoints[n - 1]];
+        let repaired = c2.inverted < c1.inverted;
+        let settled = !repaired
+            && tail(c1.min - c0.min, c2.min - c1.min) < StopRule::QUALITY_MIN_LEFT
+            && tail(c1.avg - c0.avg, c2.avg - c1.avg) < StopRule::QUALITY_AVG_LEFT;
+        self.settled = if settled { self.settled + 1 } else { 0 };
+        self.settled >= SETTLED_WINDOWS
     }
-    now.min > before.min + StopRule::QUALITY_MIN_GAIN
-        || (now.avg > before.avg + StopRule::QUALITY_AVG_GAIN
-            && now.min >= before.min - StopRule::QUALITY_MIN_GAIN)
+}
+
+/// The gain still to come after window gains `before` then `last`, if they shrink
+/// geometrically: the tail last r / (1 - r), r = last / before. No gain: nothing to come; a
+/// gain that does not shrink: unbounded.
+fn tail(before: f64, last: f64) -> f64 {
+    if last <= 0.0 {
+        return 0.0;
+    }
+    if before <= last {
+        return f64::INFINITY;
+    }
+    let r = last / before;
+    last * r / (1.0 - r)
 }
 
 #[cfg(test)]
@@ -80,35 +118,60 @@ mod tests {
         QualityStats { min, avg, max: 1.0, inverted }
     }
 
-    #[test]
-    fn the_quality_rule_stops_after_patience_sweeps_without_gain() {
+    /// Feeds `avg(k)` (k = 1, 2, ...) with a fixed minimum; returns the sweep the rule stopped at.
+    fn stops_at(avg: impl Fn(usize) -> f64, cap: usize) -> Option<usize> {
         let mut s = Stopper::new(&quality(), 10);
-        s.start(&stats(2, -0.5, 0.5));
-        assert!(!s.after_sweep(&stats(1, -0.4, 0.6), 1.0).0, "fewer inverted is progress");
-        assert!(!s.after_sweep(&stats(0, 0.1, 0.7), 1.0).0);
-        // Gains below both thresholds: stalled once, then done at the patience.
-        assert!(!s.after_sweep(&stats(0, 0.1005, 0.70005), 1.0).0);
-        assert!(s.after_sweep(&stats(0, 0.1009, 0.70009), 1.0).0);
+        s.start(&stats(0, 0.5, avg(0)));
+        (1..=cap).find(|&k| s.after_sweep(&stats(0, 0.5, avg(k)), 1.0).0)
     }
 
     #[test]
-    fn small_gains_accumulate_against_the_last_reference() {
-        // Each sweep gains 0.6e-4 in average: no single step counts, but two together do,
-        // since gains are measured from the last significant state, not the previous sweep.
-        let mut s = Stopper::new(&quality(), 10);
-        s.start(&stats(0, 0.5, 0.8));
-        assert!(!s.after_sweep(&stats(0, 0.5, 0.80006), 1.0).0);
-        assert!(!s.after_sweep(&stats(0, 0.5, 0.80012), 1.0).0, "0.00012 over the reference");
-        assert!(!s.after_sweep(&stats(0, 0.5, 0.80018), 1.0).0);
-        assert!(s.after_sweep(&stats(0, 0.5, 0.80020), 1.0).0);
+    fn the_tail_of_geometric_gains() {
+        assert_eq!(tail(0.01, 0.0), 0.0);
+        assert_eq!(tail(0.01, -0.01), 0.0, "a loss leaves nothing to gain");
+        assert_eq!(tail(0.01, 0.01), f64::INFINITY, "a steady gain goes on");
+        // Gains 0.004 then 0.002 (r = 1/2): 0.001 + 0.0005 + ... = 0.002 to come.
+        assert!((tail(0.004, 0.002) - 0.002).abs() < 1e-15);
     }
 
     #[test]
-    fn an_average_bought_with_the_minimum_is_no_gain() {
+    fn a_fast_converging_average_stops_once_its_tail_is_small() {
+        // avg(k) = 0.9 - 0.1 * 0.5^k: the gain left after sweep k is 0.1 * 0.5^k, 1e-4 at
+        // k = 10. The first window end with two window gains to compare is sweep 10 (tail
+        // 0.1 * (0.5^5 - 0.5^10) / 31 = 9.8e-5, settled), the second 15: two in a row.
+        assert_eq!(stops_at(|k| 0.9 - 0.1 * 0.5f64.powi(k as i32), 1000), Some(15));
+    }
+
+    #[test]
+    fn a_slowly_converging_average_goes_on_while_much_is_left() {
+        // avg(k) = 0.96 - 0.2 * 0.995^k: 0.2 * 0.995^k is left, so the rule may stop only
+        // once that is near 1e-4 (k about 1500): not within a 1000-sweep cap.
+        assert_eq!(stops_at(|k| 0.96 - 0.2 * 0.995f64.powi(k as i32), 1000), None);
+        // A steady gain goes on too.
+        assert_eq!(stops_at(|k| 0.5 + 1e-5 * k as f64, 1000), None);
+    }
+
+    #[test]
+    fn an_oscillating_average_stops_at_its_best() {
+        // A limit cycle around 0.87 (the energy rule runs such meshes to the cap).
+        let k = stops_at(|k| 0.87 + if k % 2 == 0 { 1e-3 } else { -1e-3 }, 1000).unwrap();
+        assert!(k <= 4 * StopRule::QUALITY_WINDOW, "stopped at {k}");
+    }
+
+    #[test]
+    fn repairing_inverted_quads_or_raising_the_minimum_keeps_it_going() {
         let mut s = Stopper::new(&quality(), 10);
-        s.start(&stats(0, 0.5, 0.8));
-        assert!(!s.after_sweep(&stats(0, 0.4, 0.9), 1.0).0);
-        assert!(s.after_sweep(&stats(0, 0.4, 0.95), 1.0).0);
+        s.start(&stats(50, -0.5, 0.5));
+        // One inverted quad repaired per sweep, nothing else changes.
+        for k in 1..=40 {
+            assert!(!s.after_sweep(&stats(50 - k, -0.5, 0.5), 1.0).0, "sweep {k}");
+        }
+        // The minimum rising steadily by 1e-4 per sweep: a window gains 5e-4, forever.
+        let mut s = Stopper::new(&quality(), 10);
+        s.start(&stats(0, 0.1, 0.8));
+        for k in 1..=100 {
+            assert!(!s.after_sweep(&stats(0, 0.1 + 1e-4 * k as f64, 0.8), 1.0).0, "sweep {k}");
+        }
     }
 
     #[test]

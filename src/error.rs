@@ -47,6 +47,9 @@ pub enum Error {
     /// An allocation that grows with the input failed (or its size overflowed).
     #[error("out of memory: cannot allocate {bytes} bytes for {what}")]
     OutOfMemory { what: &'static str, bytes: u128 },
+    /// Not even one worker thread could start (a thread limit, no memory for a stack).
+    #[error("cannot start worker threads: {why}")]
+    NoThreads { why: String },
 }
 
 /// Shorthand for results of this crate.

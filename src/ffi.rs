@@ -35,8 +35,9 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::mem::size_of;
 use std::panic::{self, AssertUnwindSafe};
 
-mod pool;
-mod quiet;
+pub(crate) mod quiet;
+
+use crate::pool;
 
 /// Major version of the library (the `x` of `x.y.z`).
 pub const QUADOPT_VERSION_MAJOR: u32 = 0;
@@ -326,7 +327,7 @@ fn status_of(e: &Error) -> QuadoptStatus {
         Error::VertexCountMismatch { .. } => QuadoptStatus::Mismatch,
         Error::InvalidOption { .. } => QuadoptStatus::InvalidOption,
         Error::NotPlanar { .. } => QuadoptStatus::NotPlanar,
-        Error::OutOfMemory { .. } => QuadoptStatus::OutOfMemory,
+        Error::OutOfMemory { .. } | Error::NoThreads { .. } => QuadoptStatus::OutOfMemory,
     }
 }
 

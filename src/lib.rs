@@ -31,12 +31,15 @@
 pub mod alloc;
 pub mod error;
 pub mod features;
-/// The C ABI (`include/quadopt.h`): the only module with `unsafe` code.
+/// The C ABI (`include/quadopt.h`): with `pool`, the only modules with `unsafe` code.
 #[allow(unsafe_code)]
 pub mod ffi;
 pub mod io;
 pub mod mesh;
 pub mod normalization;
+/// The process's worker pool (its `unsafe`: a published pool pointer that is never freed).
+#[allow(unsafe_code)]
+mod pool;
 pub mod quality;
 pub mod smooth;
 pub mod synthetic;

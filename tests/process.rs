@@ -131,6 +131,33 @@ fn a_child_forked_after_use_finishes_its_calls() {
     assert_eq!(optimize(&coords, &quads), (QuadoptStatus::Ok, expected));
 }
 
+/// The Rust API on a copy of the grid: the output's bits (or a panic).
+fn optimize_rust(coords: &[f64], quads: &[u32]) -> Vec<u64> {
+    let points = coords.chunks(2).map(|c| glam::DVec2::new(c[0], c[1])).collect();
+    let quads = quads.chunks(4).map(|q| [q[0], q[1], q[2], q[3]]).collect();
+    let mut mesh = quadopt::QuadMesh::new(points, quads, None).unwrap();
+    quadopt::optimize(&mut mesh, &quadopt::Options::default()).unwrap();
+    mesh.points().iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect()
+}
+
+#[test]
+fn a_child_forked_after_the_rust_api_finishes_its_calls() {
+    // 10,000 quads: colour classes large enough for the parallel loops.
+    let (coords, quads) = jittered_grid(100);
+    let expected = optimize_rust(&coords, &quads);
+    let deadline = Duration::from_secs(120);
+    let child = in_forked_child(deadline, || {
+        let first = i32::from(optimize_rust(&coords, &quads) != expected);
+        first
+            + in_forked_child(deadline, || i32::from(optimize_rust(&coords, &quads) != expected))
+                .map_or(10, |c| 4 * c)
+    });
+    assert_eq!(child, Some(0), "the forked child blocked (None) or got another result");
+    // Inside a rayon pool of the caller's, the run uses that pool (and gives the same result).
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    assert_eq!(pool.install(|| optimize_rust(&coords, &quads)), expected);
+}
+
 /// Runs this binary's test `name` again in a fresh process with `QUADOPT_TEST_CHILD=name`
 /// and two worker threads.
 fn run_in_child(name: &str) {

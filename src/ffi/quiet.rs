@@ -31,7 +31,7 @@ pub(super) fn install_hook() {
 }
 
 /// Marks the current thread, for its lifetime, as running only library code.
-pub(super) fn mark_worker_thread() {
+pub(crate) fn mark_worker_thread() {
     let _ = INSIDE.try_with(|c| c.set(true));
 }
 

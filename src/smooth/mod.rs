@@ -78,7 +78,39 @@ impl Optimizer {
     /// a power of two it is the same bit for bit. Vertices that do not move keep their
     /// coordinates exactly; the report's statistics are those of the coordinates given and
     /// returned.
+    ///
+    /// Threads: called inside a rayon pool (`ThreadPool::install`), the run uses that pool;
+    /// otherwise quadopt's own pool, one per process (`RAYON_NUM_THREADS` threads, else one per
+    /// core), never rayon's global pool, so that a process forked after a run can run again
+    /// (its pool is rebuilt there). The result is the same on any number of threads. When no
+    /// worker thread can start at all, the run fails with [`Error::NoThreads`].
     pub fn run(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<Report> {
+        if rayon::current_thread_index().is_some() {
+            // Inside the caller's rayon pool (`ThreadPool::install`): its threads do the work.
+            return self.run_here(mesh, options, progress);
+        }
+        // Otherwise on quadopt's own pool, never rayon's global one: the global pool's workers
+        // do not exist in a process forked after it started, and every later call there would
+        // block; quadopt's pool is rebuilt in the child. The progress callback stays on the
+        // calling thread.
+        let wants_progress = progress.is_some();
+        let job = |ask: &mut dyn FnMut(Progress) -> bool| {
+            let mut forward = |p: &Progress| ask(*p);
+            self.run_here(mesh, options, if wants_progress { Some(&mut forward) } else { None })
+        };
+        let mut progress = progress;
+        let answer = |p: Progress| progress.as_mut().is_none_or(|f| f(&p));
+        crate::pool::run_with_progress(job, answer)
+            .map_err(|crate::pool::NoThreads(why)| Error::NoThreads { why })?
+    }
+
+    /// [`Optimizer::run`] on the current thread and pool.
+    fn run_here(
         &self,
         mesh: &mut QuadMesh,
         options: &Options,

@@ -1,4 +1,5 @@
-//! The worker threads of the C ABI: one rayon pool per process, never rayon's global pool.
+//! quadopt's worker threads: one rayon pool per process, never rayon's global pool. The C ABI
+//! and the Rust API (`Optimizer::run` called outside any rayon pool) run on it.
 //!
 //! - The pool is built on first use. A pool that cannot start (a thread limit, no memory for
 //!   a stack) leaves no thread behind: the threads it did start are joined. The call then runs
@@ -12,7 +13,7 @@
 //!   the caller and waits for the answer.
 //!
 //! Worker threads run only library code, so they are marked as inside the library for the
-//! quiet panic hook (see `super::quiet`).
+//! quiet panic hook (see `crate::ffi`'s `quiet` module).
 
 use rayon::{ThreadBuilder, ThreadPool, ThreadPoolBuilder};
 use std::sync::atomic::{AtomicPtr, Ordering};
@@ -34,20 +35,20 @@ static SHARED: AtomicPtr<ProcessPool> = AtomicPtr::new(std::ptr::null_mut());
 /// Test hook: how many threads one pool may start (the next one fails as under a thread
 /// limit), without touching process limits.
 #[cfg(test)]
-pub(super) static THREAD_LIMIT: std::sync::atomic::AtomicUsize =
+pub(crate) static THREAD_LIMIT: std::sync::atomic::AtomicUsize =
     std::sync::atomic::AtomicUsize::new(usize::MAX);
 
 /// The threads could not be started; the message says why.
 #[derive(Debug)]
-pub(super) struct NoThreads(pub String);
+pub(crate) struct NoThreads(pub String);
 
 /// Runs `job` on a worker thread while the calling thread answers the job's progress reports
 /// with `on_progress`, and returns the job's result. A panic in `job` resumes on the calling
-/// thread (where the C boundary catches it).
+/// thread (where the C boundary catches it, or the Rust caller sees it).
 ///
 /// `job` receives the function it calls with each report; that function returns
 /// `on_progress`'s answer (false also once the caller has stopped listening).
-pub(super) fn run_with_progress<P: Send, R: Send>(
+pub(crate) fn run_with_progress<P: Send, R: Send>(
     job: impl FnOnce(&mut dyn FnMut(P) -> bool) -> R + Send,
     mut on_progress: impl FnMut(P) -> bool,
 ) -> Result<R, NoThreads> {
@@ -204,7 +205,7 @@ fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), St
 
 /// The body of every worker thread.
 fn run_worker(thread: ThreadBuilder) {
-    super::quiet::mark_worker_thread();
+    crate::ffi::quiet::mark_worker_thread();
     thread.run();
 }
 

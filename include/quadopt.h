@@ -161,7 +161,8 @@ enum QuadoptBoundary
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
     /**
-     * Run both approaches (slide and snap) and keep the better result (the default).
+     * Both approaches in one pass: each boundary vertex takes, every sweep, the slide or the
+     * snap candidate that leaves its star better (the default).
      */
     QUADOPT_BOUNDARY_AUTO = 0,
     /**
@@ -234,7 +235,8 @@ typedef struct QuadoptProgress {
      */
     size_t max_iterations;
     /**
-     * Current pass (1-based); the automatic boundary mode runs several passes.
+     * Current pass (1-based). Every mode runs one pass since the automatic mode decides per
+     * vertex; the field stays for compatibility.
      */
     size_t pass;
     /**

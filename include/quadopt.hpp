@@ -111,7 +111,7 @@ enum class Method : std::uint32_t {
 
 /// Boundary treatment (corners and fixed vertices never move).
 enum class Boundary : std::uint32_t {
-  Auto = QUADOPT_BOUNDARY_AUTO,    ///< the better of Slide and Snap, per loop (default)
+  Auto = QUADOPT_BOUNDARY_AUTO,    ///< the better of Slide and Snap, per vertex and sweep (default)
   Fixed = QUADOPT_BOUNDARY_FIXED,  ///< boundary vertices never move
   Slide = QUADOPT_BOUNDARY_SLIDE,  ///< move along the original boundary polyline
   Snap = QUADOPT_BOUNDARY_SNAP,    ///< bisect, then project back onto the original boundary

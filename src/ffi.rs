@@ -107,7 +107,8 @@ pub enum QuadoptMethod {
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum QuadoptBoundary {
-    /// Run both approaches (slide and snap) and keep the better result (the default).
+    /// Both approaches in one pass: each boundary vertex takes, every sweep, the slide or the
+    /// snap candidate that leaves its star better (the default).
     Auto = 0,
     /// Boundary vertices never move.
     Fixed = 1,
@@ -139,7 +140,8 @@ pub struct QuadoptProgress {
     pub iteration: usize,
     /// The iteration cap of a pass.
     pub max_iterations: usize,
-    /// Current pass (1-based); the automatic boundary mode runs several passes.
+    /// Current pass (1-based). Every mode runs one pass since the automatic mode decides per
+    /// vertex; the field stays for compatibility.
     pub pass: usize,
     /// Number of passes planned.
     pub passes: usize,
@@ -1635,11 +1637,11 @@ mod tests {
         assert_eq!(calls.iter().map(|p| p.iteration).collect::<Vec<_>>(), [0, 1, 2]);
         assert!(calls.iter().all(|p| p.pass == 1 && p.passes == 1 && p.max_iterations == 1000));
         assert!(last_error().contains("cancelled by the progress callback at pass 1 of 1, iteration 2"));
-        // The same callback under the automatic mode, which plans several passes.
+        // The same callback under the automatic mode, also one pass.
         calls.clear();
         let o = QuadoptOptions { boundary: QuadoptBoundary::Auto as u32, ..o };
         assert_eq!(optimize_status(&coords, 2, &quads, None, Some(&o)), QuadoptStatus::Cancelled);
-        assert!(calls.iter().all(|p| p.passes >= 2 && p.pass == 1));
+        assert!(calls.iter().all(|p| p.passes == 1 && p.pass == 1));
     }
 
     #[test]

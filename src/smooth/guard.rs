@@ -28,6 +28,31 @@ pub fn star_min(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize,
     min
 }
 
+/// Minimum and average scaled Jacobian of the quads around `v` with `v` placed at `at`.
+pub fn star_min_avg(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    at: DVec2,
+) -> (f64, f64) {
+    let (mut min, mut sum) = (f64::INFINITY, 0.0);
+    let star = topo.vertex_quads(v);
+    for &qi in star {
+        let q = &quads[qi as usize];
+        let mut c = corners(points, q);
+        for (k, &u) in q.iter().enumerate() {
+            if u as usize == v {
+                c[k] = at;
+            }
+        }
+        let sj = scaled_jacobian(&c);
+        min = min.min(sj);
+        sum += sj;
+    }
+    (min, sum / star.len().max(1) as f64)
+}
+
 /// The position actually taken by `v` when it wants to go to `target`: the target itself if
 /// the star is tangled or stays acceptable, else the longest acceptable step among
 /// 1/2, 1/4, ... of the way.

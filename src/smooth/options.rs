@@ -57,7 +57,9 @@ pub enum BoundaryMode {
     /// Approach 1: rotate to bisect, then project back onto the original boundary between the
     /// vertex's two boundary neighbours.
     Snap,
-    /// Run both approaches and keep the better result, per boundary loop on small meshes.
+    /// Both approaches in one pass: each boundary vertex takes, in every sweep, the slide or the
+    /// snap candidate, whichever leaves its star better (by the star's average when both keep
+    /// it above the guard's floor, else by its minimum).
     #[default]
     Auto,
 }

@@ -23,6 +23,12 @@ use rayon::prelude::*;
 /// than it saves (the result is the same either way, as a class is applied in order).
 const PARALLEL_MIN: usize = 2048;
 
+/// How much better snap's star must be for one-pass `Auto` to take it over slide's. Where the
+/// two candidates (nearly) coincide, on straight stretches, their stars differ by rounding
+/// only; a strict comparison would then pick by rounding, and the run would not be the same
+/// after a scaling or a translation of the mesh.
+const AUTO_TIE: f64 = 1e-9;
+
 /// Per-vertex result of a sweep.
 #[derive(Clone, Copy, Debug, Default)]
 struct Update {
@@ -301,25 +307,76 @@ impl RunContext<'_> {
             energy,
         };
         let Some(l) = self.geometry.loop_of(v) else { return stay(0.0) };
-        let (target, param, energy) = boundary::update(
-            points,
-            self.topo,
-            self.geometry,
-            params,
-            v,
-            loop_modes[l],
-            opts.lambda,
-            opts.max_boundary_deviation,
-        );
+        let (target, param, energy, at_target) = if loop_modes[l] == BoundaryMode::Auto {
+            let (c, _, star) = self.auto_candidate(points, params, v);
+            (c.0, c.1, c.2, star)
+        } else {
+            let c = self.boundary_candidate(points, params, v, loop_modes[l]);
+            (c.0, c.1, c.2, None)
+        };
         if !opts.guard || target == p {
             return Update { vertex: v as u32, position: target, param, energy };
         }
-        let at_target = guard::star_min(points, self.quads, self.topo, v, target);
+        let at_target =
+            at_target.unwrap_or_else(|| guard::star_min(points, self.quads, self.topo, v, target));
         let ok = at_target >= self.floor || {
             let current = guard::star_min(points, self.quads, self.topo, v, p);
             at_target >= current || current <= 0.0
         };
         if ok { Update { vertex: v as u32, position: target, param, energy } } else { stay(energy) }
+    }
+
+    /// Boundary vertex `v`'s candidate (position, arclength parameter, energy) in `mode`.
+    fn boundary_candidate(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        v: usize,
+        mode: BoundaryMode,
+    ) -> (DVec2, f64, f64) {
+        let opts = self.options;
+        boundary::update(
+            points,
+            self.topo,
+            self.geometry,
+            params,
+            v,
+            mode,
+            opts.lambda,
+            opts.max_boundary_deviation,
+        )
+    }
+
+    /// One-pass `Auto` for boundary vertex `v`: slide's and snap's candidates, the better kept
+    /// (when both keep the star at or above the guard's floor, by the star's average; else by
+    /// its minimum), with the approach taken and the star's minimum there (when it moves).
+    pub fn auto_candidate(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        v: usize,
+    ) -> ((DVec2, f64, f64), BoundaryMode, Option<f64>) {
+        let slide = self.boundary_candidate(points, params, v, BoundaryMode::Slide);
+        let snap = self.boundary_candidate(points, params, v, BoundaryMode::Snap);
+        let p = points[v];
+        if slide.0 == snap.0 || snap.0 == p {
+            return (slide, BoundaryMode::Slide, None);
+        }
+        if slide.0 == p {
+            return (snap, BoundaryMode::Snap, None);
+        }
+        let q_slide = guard::star_min_avg(points, self.quads, self.topo, v, slide.0);
+        let q_snap = guard::star_min_avg(points, self.quads, self.topo, v, snap.0);
+        let snap_wins = if q_snap.0.min(q_slide.0) >= self.floor {
+            q_snap.1 > q_slide.1 + AUTO_TIE
+        } else {
+            q_snap.0 > q_slide.0 + AUTO_TIE
+        };
+        if snap_wins {
+            (snap, BoundaryMode::Snap, Some(q_snap.0))
+        } else {
+            (slide, BoundaryMode::Slide, Some(q_slide.0))
+        }
     }
 }
 

@@ -54,6 +54,22 @@ std::string quoted(std::string_view t) {
   return "'" + s + (t.size() > 40 ? "...'" : "'");
 }
 
+bool unsigned_token(std::string_view t, uint64_t &value);
+
+/// A face's vertex list as OpenMesh's ASCII readers take it (`>> n`, then n `>> index`): the
+/// count no larger than the data could hold, each entry an unsigned index.
+void check_index_list(Tokens &in, std::string_view first, const std::string &where) {
+  uint64_t n = 0;
+  if (!unsigned_token(first, n)) bad(where + "the vertex count " + quoted(first) + " is malformed");
+  if (n > in.remaining() / 2 + 1) bad(where + "a vertex count larger than the data (" + std::to_string(n) + ")");
+  for (uint64_t k = 0; k < n; ++k) {
+    uint64_t idx = 0;
+    const std::string_view v = in.next();
+    if (v.empty()) bad(where + "the data ends early (truncated)");
+    if (!unsigned_token(v, idx)) bad(where + "the vertex index " + quoted(v) + " is malformed");
+  }
+}
+
 /// A decimal integer that operator>> reads whole into a type with this range. Unsigned types
 /// take no sign: libstdc++ would wrap "-1" around.
 bool integer_token(std::string_view t, long long lo, unsigned long long hi) {
@@ -336,15 +352,7 @@ void check_ply_ascii(const PlyHeader &h, const uint8_t *d, std::size_t len) {
           if (!ascii_value_ok(p, t)) bad(where() + "the " + p.name + " value " + quoted(t) + " is malformed");
           continue;
         }
-        uint64_t n = 0;
-        if (!unsigned_token(t, n)) bad(where() + "the vertex count " + quoted(t) + " is malformed");
-        if (n > in.remaining() / 2 + 1) bad(where() + "a vertex count larger than the data (" + std::to_string(n) + ")");
-        for (uint64_t k = 0; k < n; ++k) {
-          uint64_t idx = 0;
-          const std::string_view v = in.next();
-          if (v.empty()) bad(where() + "the data ends early (truncated)");
-          if (!unsigned_token(v, idx)) bad(where() + "the vertex index " + quoted(v) + " is malformed");
-        }
+        check_index_list(in, t, where());
       }
     }
     if (e.name == "face") return;  // OpenMesh stops after the faces
@@ -435,17 +443,9 @@ void check_off(const uint8_t *d, std::size_t len) {
   }
   for (uint64_t i = 0; i < nf; ++i) {
     const std::string where = "OFF face " + std::to_string(i) + ": ";
-    uint64_t n = 0;
     const std::string_view t = in.next();
     if (t.empty()) bad(where + "the data ends early (truncated)");
-    if (!unsigned_token(t, n)) bad(where + "the vertex count " + quoted(t) + " is malformed");
-    if (n > in.remaining() / 2 + 1) bad(where + "a vertex count larger than the data (" + std::to_string(n) + ")");
-    for (uint64_t k = 0; k < n; ++k) {
-      uint64_t idx = 0;
-      const std::string_view v = in.next();
-      if (v.empty()) bad(where + "the data ends early (truncated)");
-      if (!unsigned_token(v, idx)) bad(where + "the vertex index " + quoted(v) + " is malformed");
-    }
+    check_index_list(in, t, where);
   }
 }
 

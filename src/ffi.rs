@@ -126,7 +126,7 @@ pub enum QuadoptStopRule {
     /// absolute with `tau_absolute`), as in the paper.
     Energy = 0,
     /// When the result stops improving: checked every 5 sweeps, stop at the second window in a
-    /// row that repaired no inverted quad and whose shrinking gains leave less than 5e-4 of
+    /// row that repaired no inverted quad and whose shrinking gains leave less than 5e-3 of
     /// minimum and 1e-4 of average scaled Jacobian to come (their geometric tail).
     Quality = 1,
 }

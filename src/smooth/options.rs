@@ -116,7 +116,7 @@ impl StopRule {
     /// Sweeps per window of [`StopRule::Quality`].
     pub const QUALITY_WINDOW: usize = 5;
     /// Gain of the minimum scaled Jacobian still to come below which the quality rule may stop.
-    pub const QUALITY_MIN_LEFT: f64 = 5e-4;
+    pub const QUALITY_MIN_LEFT: f64 = 5e-3;
     /// Gain of the average scaled Jacobian still to come below which the quality rule may stop.
     pub const QUALITY_AVG_LEFT: f64 = 1e-4;
 

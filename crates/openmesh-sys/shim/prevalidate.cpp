@@ -54,22 +54,6 @@ std::string quoted(std::string_view t) {
   return "'" + s + (t.size() > 40 ? "...'" : "'");
 }
 
-bool unsigned_token(std::string_view t, uint64_t &value);
-
-/// A face's vertex list as OpenMesh's ASCII readers take it (`>> n`, then n `>> index`): the
-/// count no larger than the data could hold, each entry an unsigned index.
-void check_index_list(Tokens &in, std::string_view first, const std::string &where) {
-  uint64_t n = 0;
-  if (!unsigned_token(first, n)) bad(where + "the vertex count " + quoted(first) + " is malformed");
-  if (n > in.remaining() / 2 + 1) bad(where + "a vertex count larger than the data (" + std::to_string(n) + ")");
-  for (uint64_t k = 0; k < n; ++k) {
-    uint64_t idx = 0;
-    const std::string_view v = in.next();
-    if (v.empty()) bad(where + "the data ends early (truncated)");
-    if (!unsigned_token(v, idx)) bad(where + "the vertex index " + quoted(v) + " is malformed");
-  }
-}
-
 /// A decimal integer that operator>> reads whole into a type with this range. Unsigned types
 /// take no sign: libstdc++ would wrap "-1" around.
 bool integer_token(std::string_view t, long long lo, unsigned long long hi) {
@@ -89,6 +73,20 @@ bool unsigned_token(std::string_view t, uint64_t &value) {
   if (t.empty() || t[0] < '0' || t[0] > '9') return false;
   const auto r = std::from_chars(t.data(), t.data() + t.size(), value);
   return r.ec == std::errc() && r.ptr == t.data() + t.size() && value <= std::numeric_limits<unsigned int>::max();
+}
+
+/// A face's vertex list as OpenMesh's ASCII readers take it (`>> n`, then n `>> index`): the
+/// count no larger than the data could hold, each entry an unsigned index.
+void check_index_list(Tokens &in, std::string_view first, const std::string &where) {
+  uint64_t n = 0;
+  if (!unsigned_token(first, n)) bad(where + "the vertex count " + quoted(first) + " is malformed");
+  if (n > in.remaining() / 2 + 1) bad(where + "a vertex count larger than the data (" + std::to_string(n) + ")");
+  for (uint64_t k = 0; k < n; ++k) {
+    uint64_t idx = 0;
+    const std::string_view v = in.next();
+    if (v.empty()) bad(where + "the data ends early (truncated)");
+    if (!unsigned_token(v, idx)) bad(where + "the vertex index " + quoted(v) + " is malformed");
+  }
 }
 
 /// A decimal number that operator>> reads whole and finite into T (no inf, nan or hex).

@@ -200,9 +200,10 @@ enum QuadoptStopRule
      */
     QUADOPT_STOP_RULE_ENERGY = 0,
     /**
-     * When the result stops improving: checked every 5 sweeps, stop at the second window in a
-     * row that repaired no inverted quad and whose shrinking gains leave less than 5e-3 of
-     * minimum and 1e-4 of average scaled Jacobian to come (their geometric tail).
+     * When the result stops improving (the default): checked every 5 sweeps, stop once the
+     * kept iterate has not changed for 4 windows, or at the second window in a row that
+     * repaired no inverted quad and whose shrinking gains leave less than 5e-3 of minimum and
+     * 5e-4 of average scaled Jacobian to come (their geometric tail).
      */
     QUADOPT_STOP_RULE_QUALITY = 1,
 };
@@ -328,7 +329,7 @@ typedef struct QuadoptOptions {
      */
     uint8_t keep_best;
     /**
-     * When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
+     * When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_QUALITY`, 1).
      */
     uint32_t stop_rule;
     /**

@@ -125,9 +125,10 @@ pub enum QuadoptStopRule {
     /// When the collective energy changes by less than `tau` (per movable vertex, or
     /// absolute with `tau_absolute`), as in the paper.
     Energy = 0,
-    /// When the result stops improving: checked every 5 sweeps, stop at the second window in a
-    /// row that repaired no inverted quad and whose shrinking gains leave less than 5e-3 of
-    /// minimum and 1e-4 of average scaled Jacobian to come (their geometric tail).
+    /// When the result stops improving (the default): checked every 5 sweeps, stop once the
+    /// kept iterate has not changed for 4 windows, or at the second window in a row that
+    /// repaired no inverted quad and whose shrinking gains leave less than 5e-3 of minimum and
+    /// 5e-4 of average scaled Jacobian to come (their geometric tail).
     Quality = 1,
 }
 
@@ -197,7 +198,7 @@ pub struct QuadoptOptions {
     pub untangle: u8,
     /// Nonzero: return the best iterate seen instead of the last one (default 1).
     pub keep_best: u8,
-    /// When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_ENERGY`, 0).
+    /// When to stop, a `QuadoptStopRule` value (default `QUADOPT_STOP_RULE_QUALITY`, 1).
     pub stop_rule: u32,
     /// Progress callback, or NULL for none (default NULL).
     pub progress: QuadoptProgressFn,
@@ -736,7 +737,10 @@ fn default_options() -> QuadoptOptions {
         guard: u8::from(d.guard),
         untangle: u8::from(d.untangle),
         keep_best: u8::from(d.keep_best),
-        stop_rule: QuadoptStopRule::Energy as u32,
+        stop_rule: match d.stop {
+            StopRule::Energy => QuadoptStopRule::Energy,
+            StopRule::Quality => QuadoptStopRule::Quality,
+        } as u32,
         progress: None,
         progress_user_data: std::ptr::null_mut(),
         max_min: u32::from(d.max_min),
@@ -1559,7 +1563,7 @@ mod tests {
         let (without, r0) = run_plate(&off, size_of::<QuadoptReport>());
         assert_eq!(r0.max_min, 0);
         assert_eq!(bytes_of(&r0.sweeps), bytes_of(&r0.output), "no stage: sweeps == output");
-        assert_eq!(bytes_of(&r0.output), bytes_of(&r.sweeps), "the same sweeps either way");
+        // (The sweeps themselves differ: before the stage they are kept for their average.)
         assert_ne!(bits(&with), bits(&without));
     }
 

@@ -19,6 +19,19 @@ use std::path::{Path, PathBuf};
 /// Quality lost against the floor that still passes (the optimizer's own tie threshold).
 const TOLERANCE: f64 = 1e-3;
 
+/// Meshes on which the default stopping rule ends lower, by a measured and documented amount
+/// (README, "Stopping rule"): (mesh, inverted, min, avg) that the default must reach instead
+/// of the floor, which the energy rule (`StopRule::Energy`) must still reach.
+///
+/// Mesquite's tfi_chevron24x24 is a TFI mesh near a fixed point of the sweeps: its average
+/// rises by 2e-3 in the first 100 sweeps, then the sweeps drift away and it climbs from 0.74
+/// to 0.82 over the next 900 (the cap). No rule that stops the other 55 meshes within a few
+/// times their useful sweeps can tell the plateau from convergence.
+#[rustfmt::skip]
+const DOCUMENTED_COST: &[(&str, usize, f64, f64)] = &[
+    ("mesquite: untangled/tfi_chevron24x24.vtk", 0, 0.707098, 0.744892),
+];
+
 /// (mesh, inverted, min, avg) of the default run measured before the speed work.
 #[rustfmt::skip]
 const FLOOR: &[(&str, usize, f64, f64)] = &[
@@ -87,7 +100,9 @@ fn meshes() -> Vec<(String, QuadMesh)> {
         let (name, mesh, _) = load(&path);
         let optimizer = Optimizer::new(&mesh);
         let mut base = mesh.clone();
-        let fixed_boundary = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
+        // The energy rule, as when the floor was recorded: the jittered meshes stay the same.
+        let fixed_boundary =
+            Options { boundary: BoundaryMode::Fixed, stop: StopRule::Energy, ..Options::default() };
         optimizer.run(&mut base, &fixed_boundary, None).unwrap();
         let shaken = jittered(&base, optimizer.topology(), 0.9, 7);
         out.push((name.clone(), mesh));
@@ -140,6 +155,7 @@ fn the_default_never_ends_below_the_recorded_floor() {
         if only.as_ref().is_some_and(|o| !name.contains(o.as_str())) {
             continue;
         }
+        let original = mesh.clone();
         let report = quadopt::optimize(&mut mesh, &options).unwrap();
         let out = report.output;
         if print {
@@ -165,11 +181,31 @@ fn the_default_never_ends_below_the_recorded_floor() {
             continue;
         };
         checked += 1;
-        if out.inverted > inverted || out.min < min - TOLERANCE || out.avg < avg - TOLERANCE {
+        let below = |out: &quadopt::QualityStats, (inverted, min, avg): (usize, f64, f64)| {
+            out.inverted > inverted || out.min < min - TOLERANCE || out.avg < avg - TOLERANCE
+        };
+        let (floor_of_rule, energy_check) = match DOCUMENTED_COST.iter().find(|c| c.0 == name) {
+            Some(&(_, i, m, a)) if options.stop == StopRule::Quality => ((i, m, a), true),
+            _ => ((inverted, min, avg), false),
+        };
+        let (inverted, min, avg) = floor_of_rule;
+        if below(&out, floor_of_rule) {
             failures.push(format!(
                 "{name}: {} inverted, min {:.6}, avg {:.6}; floor {inverted}, {min:.6}, {avg:.6}",
                 out.inverted, out.min, out.avg
             ));
+        }
+        if energy_check {
+            let energy = Options { stop: StopRule::Energy, ..options.clone() };
+            let mut again = original;
+            let out = quadopt::optimize(&mut again, &energy).unwrap().output;
+            let f = floor.unwrap();
+            if below(&out, (f.1, f.2, f.3)) {
+                failures.push(format!(
+                    "{name} with the energy rule: {} inverted, min {:.6}, avg {:.6}; floor {}, {:.6}, {:.6}",
+                    out.inverted, out.min, out.avg, f.1, f.2, f.3
+                ));
+            }
         }
     }
     assert!(print || only.is_some() || checked >= 29, "only {checked} meshes had a floor");

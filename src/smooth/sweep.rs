@@ -9,7 +9,7 @@
 use super::boundary::{self, BoundaryGeometry};
 use super::maxmin::{self, MaxMinSettings};
 use super::options::{BoundaryMode, Method, Options};
-use super::ranking::{MIN_TIE, improves, stats_of};
+use super::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves, improves_with_tie, stats_of};
 use super::report::{MaxMinGain, Progress};
 use super::stopping::Stopper;
 use super::{angle_based, embedded_polygon, energy, guard, laplacian, untangle};
@@ -113,8 +113,10 @@ impl RunContext<'_> {
             best_points.copy_from_slice(&points);
         }
 
+        // The stage that follows sets the minimum: keep the sweeps for their average.
+        let tie = if opts.max_min { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
         let mut stopper = Stopper::new(opts, self.features.movable_vertices().len());
-        stopper.start(&current);
+        stopper.start(&current, &best_stats);
         let largest_class =
             (0..self.topo.colour_count()).map(|c| self.topo.colour_class(c).len()).max().unwrap_or(0);
         let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
@@ -149,12 +151,14 @@ impl RunContext<'_> {
                 initial_energy = energy;
             }
             let stats = stats_of(&points, self.quads, &mut values);
-            if !self.inverts_a_valid_quad(&values) && improves(&stats, &best_stats, &self.input) {
+            if !self.inverts_a_valid_quad(&values) && improves_with_tie(&stats, &best_stats, &self.input, tie)
+            {
                 best_stats = stats;
                 best_points.copy_from_slice(&points);
                 best_params.copy_from_slice(&params);
             }
-            let (stop, change) = stopper.after_sweep(&stats, energy);
+            let kept = if opts.keep_best { best_stats } else { stats };
+            let (stop, change) = stopper.after_sweep(&stats, &kept, energy);
             if let Some(cb) = progress.as_mut() {
                 let p = Progress {
                     iteration: iterations,
@@ -233,10 +237,12 @@ impl RunContext<'_> {
         let mut values = Vec::with_capacity(self.quads.len());
         let after = stats_of(&points, self.quads, &mut values);
         // The average may fall by the ranking's tie threshold at most: the stage is for the
-        // worst quad, not a trade of the average for it.
+        // worst quad, not a trade of the average for it. A rise of the minimum smaller than
+        // the ranking's tie counts too (near-perfect meshes gain that much).
+        let min_rose = after.inverted <= pass.stats.inverted && after.min > pass.stats.min;
         let keep = !self.inverts_a_valid_quad(&values)
             && after.avg >= pass.stats.avg - MIN_TIE
-            && (after == pass.stats || improves(&after, &pass.stats, &self.input));
+            && (after == pass.stats || min_rose || improves(&after, &pass.stats, &self.input));
         pass.cancelled |= cancelled;
         if !keep {
             return None;

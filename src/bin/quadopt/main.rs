@@ -186,14 +186,15 @@ struct OptArgs {
 #[derive(Args, Clone)]
 struct TuneArgs {
     /// Stop when the collective energy changes by less than this per movable vertex
-    /// (absolute change with --absolute-tau).
+    /// (absolute change with --absolute-tau); implies --stop energy.
     #[arg(long, allow_negative_numbers = true)]
     tau: Option<f64>,
-    /// Compare --tau with the absolute energy change, as the paper does (size-dependent).
+    /// Compare --tau with the absolute energy change, as the paper does (size-dependent);
+    /// implies --stop energy.
     #[arg(long)]
     absolute_tau: bool,
-    /// The paper's plain method: no guard, no untangling, absolute tau = 1e-4 (the boundary
-    /// mode still comes from --boundary).
+    /// The paper's plain method: no guard, no untangling, no max-min stage, the energy rule
+    /// with absolute tau = 1e-4 (the boundary mode still comes from --boundary).
     #[arg(long)]
     paper: bool,
     /// Turn off guarded moves (which never let a valid star's minimum drop below the floor).
@@ -208,8 +209,9 @@ struct TuneArgs {
     /// Skip the max-min stage (which raises the worst quad after the sweeps).
     #[arg(long)]
     no_maxmin: bool,
-    /// Stopping rule: energy (the energy change per movable vertex below --tau) or quality
-    /// (stop once inverted count, minimum and average stop improving; fewer sweeps).
+    /// Stopping rule: quality (the default: stop once the inverted count, minimum and average
+    /// of the result stop improving) or energy (the energy change per movable vertex below
+    /// --tau; more sweeps).
     #[arg(long)]
     stop: Option<StopRule>,
     /// Largest distance of a new boundary edge from the original boundary, relative to the
@@ -243,7 +245,12 @@ impl TuneArgs {
             untangle: base.untangle && !self.no_untangle,
             max_boundary_deviation: self.max_boundary_deviation,
             max_min: base.max_min && !self.no_maxmin,
-            stop: self.stop.unwrap_or(base.stop),
+            // A threshold on the energy asks for the energy rule.
+            stop: self.stop.unwrap_or(if self.tau.is_some() || self.absolute_tau {
+                StopRule::Energy
+            } else {
+                base.stop
+            }),
             ..base
         };
         o.validate().map_err(|e| Fail::Usage(e.to_string()))?;

@@ -49,7 +49,7 @@ const BOUNDARY_MARGIN: f64 = 0.05;
 /// A move must raise its star's minimum (or, recovering the average, its average) by more
 /// than this: gains at roundoff level are not worth a move (perfect meshes would otherwise
 /// shuffle vertices by 1e-16 forever).
-pub(crate) const MIN_RISE: f64 = 1e-9;
+const MIN_RISE: f64 = 1e-9;
 
 /// Classes with fewer region vertices than this are solved on the calling thread.
 const PARALLEL_MIN: usize = 32;
@@ -716,6 +716,10 @@ struct Marks {
     settled: Vec<bool>,
     /// A max-min search with the grid has run here (see `MaxMinSettings::warm_start`).
     searched: Vec<bool>,
+    /// As `settled`, for a search for the average above `average_floor` (whose outcome
+    /// depends on that floor): the recovery sweeps skip most of the mesh after the first.
+    settled_average: Vec<bool>,
+    average_floor: f64,
 }
 
 /// One Gauss-Seidel sweep over the eligible vertices selected by `select`, colour class by
@@ -730,6 +734,12 @@ fn sweep(
     marks: &mut Marks,
 ) -> usize {
     let max_min = matches!(objective, Objective::MaxMin { .. });
+    if let Objective::Average { floor } = objective {
+        if marks.average_floor.to_bits() != floor.to_bits() {
+            marks.settled_average.fill(false);
+            marks.average_floor = floor;
+        }
+    }
     let mut members: Vec<u32> = Vec::new();
     let mut results: Vec<(u32, Option<(DVec2, f64)>)> = Vec::new();
     let mut count = 0;
@@ -737,7 +747,8 @@ fn sweep(
         members.clear();
         members.extend(ctx.topo.colour_class(c).iter().filter(|&&v| {
             let v = v as usize;
-            select(v) && ctx.eligible(v) && !(max_min && marks.settled[v])
+            let settled = if max_min { marks.settled[v] } else { marks.settled_average[v] };
+            select(v) && ctx.eligible(v) && !settled
         }));
         if members.is_empty() {
             continue;
@@ -773,14 +784,21 @@ fn sweep(
             let v = v as usize;
             marks.searched[v] |= max_min && ctx.settings.warm_start;
             let Some((p, s)) = found else {
-                marks.settled[v] |= max_min;
+                if max_min {
+                    marks.settled[v] = true;
+                } else {
+                    marks.settled_average[v] = true;
+                }
                 continue;
             };
             points[v] = p;
             marks.moved[v] = true;
+            // Every search whose star contains v now sees another star.
             marks.settled[v] = false;
+            marks.settled_average[v] = false;
             for &u in ctx.topo.full_ring(v) {
                 marks.settled[u as usize] = false;
+                marks.settled_average[u as usize] = false;
             }
             if let Some(slot) = ctx.geometry.slot(v) {
                 params[slot] = s;
@@ -827,6 +845,8 @@ pub fn max_min_stage(
         moved: vec![false; points.len()],
         settled: vec![false; points.len()],
         searched: vec![false; points.len()],
+        settled_average: vec![false; points.len()],
+        average_floor: f64::NAN,
     };
     // Quads with no vertex the stage may move keep their value: the stage works on the worst
     // of the others (its level), else a fixed worst quad would stall it from the start.

@@ -168,9 +168,9 @@ impl Optimizer {
             let modes = vec![options.boundary; topo.loop_count()];
             (ctx.pass(mesh.points(), &modes, (1, 1), &mut progress), modes)
         };
-        // A perfect worst quad has nothing to gain. (The quality rule stops the sweeps while
-        // near-perfect meshes still gain 1e-3 of minimum: the stage takes them the rest.)
-        let max_min = if options.max_min && !pass.cancelled && pass.stats.min < 1.0 - maxmin::MIN_RISE {
+        // A minimum within the ranking's tie threshold of a perfect quad has nothing to gain
+        // (measured: on a 10k-quad grid at 0.9998 the stage costs 70% of the run for 1e-4).
+        let max_min = if options.max_min && !pass.cancelled && pass.stats.min < 1.0 - ranking::MIN_TIE {
             ctx.max_min_stage(&mut pass, &mut progress)
         } else {
             None

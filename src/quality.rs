@@ -60,8 +60,39 @@ pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
 /// assert!((quadopt::quality::scaled_jacobian(&huge) - 1.0).abs() < 1e-15);
 /// ```
 pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
+    if in_exact_range(q) {
+        return scaled_jacobian_in_range(q);
+    }
     let e = -unit_exponent(q);
-    let q = q.map(|p| scale_point(p, e));
+    scaled_jacobian_in_range(&q.map(|p| scale_point(p, e)))
+}
+
+/// Bounds of [`in_exact_range`]: 2^250 and 2^-250.
+const RANGE_HIGH: f64 = f64::from_bits((1023 + 250) << 52);
+const RANGE_LOW: f64 = f64::from_bits((1023 - 250) << 52);
+
+/// Whether every coordinate of `q` is at most 2^250 in magnitude and every coordinate
+/// difference along an edge is 0 or at least 2^-250. Then every product, square, square root
+/// and quotient of [`scaled_jacobian_in_range`] is a normal number (or an exact difference)
+/// both for `q` and for `q` scaled by the power of two that brings its largest coordinate
+/// into [1, 2); each operation's result scales exactly, so both give the same value bit for
+/// bit and the scaling can be skipped (the common case: the optimizer works in a normalized
+/// frame).
+#[inline]
+fn in_exact_range(q: &[DVec2; 4]) -> bool {
+    let mut ok = true;
+    for i in 0..4 {
+        let (p, d) = (q[i], q[(i + 1) % 4] - q[i]);
+        ok &= p.x.abs() <= RANGE_HIGH && p.y.abs() <= RANGE_HIGH;
+        ok &= (d.x == 0.0 || d.x.abs() >= RANGE_LOW) && (d.y == 0.0 || d.y.abs() >= RANGE_LOW);
+    }
+    ok
+}
+
+/// The scaled Jacobian of a quad whose coordinates are in a range where no step of the
+/// computation over- or underflows (see [`in_exact_range`]).
+#[inline]
+fn scaled_jacobian_in_range(q: &[DVec2; 4]) -> f64 {
     if q[3] == q[2] {
         return triangle_scaled_jacobian(q[0], q[1], q[2]);
     }
@@ -160,6 +191,38 @@ pub fn corners(points: &[DVec2], q: &[u32; 4]) -> [DVec2; 4] {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn skipping_the_scaling_in_range_gives_the_same_bits() {
+        // Random quads (convex, folded, nearly degenerate, triangles) at scales and offsets
+        // across the range: the unscaled evaluation, where it is taken, equals the scaled one.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut fast = 0;
+        for k in 0..200_000 {
+            let scale = 2f64.powf(600.0 * next());
+            let offset = DVec2::new(next(), next()) * 2f64.powf(600.0 * next());
+            let spread = if k % 7 == 0 { 1e-9 } else { 1.0 };
+            let mut q =
+                [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)]
+                    .map(|p| (p + spread * DVec2::new(next(), next())) * scale + offset);
+            if k % 11 == 0 {
+                q[3] = q[2];
+            }
+            let slow = scaled_jacobian_in_range(&q.map(|p| scale_point(p, -unit_exponent(&q))));
+            if in_exact_range(&q) {
+                fast += 1;
+            }
+            let value = scaled_jacobian(&q);
+            assert!(value.to_bits() == slow.to_bits(), "{q:?}: {value} vs {slow}");
+        }
+        assert!(fast > 50_000, "the unscaled path was taken {fast} times");
+    }
+
     use super::*;
 
     fn quad(c: [(f64, f64); 4]) -> [DVec2; 4] {

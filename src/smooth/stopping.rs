@@ -176,7 +176,7 @@ mod tests {
     #[test]
     fn a_slowly_converging_average_goes_on_while_much_is_left() {
         // avg(k) = 0.96 - 0.2 * 0.995^k: 0.2 * 0.995^k is left, so the rule may stop only
-        // once that is near 5e-4 (k about 1200): not within a 1000-sweep cap.
+        // once that is near 1e-3 (k about 1060): not within a 1000-sweep cap.
         assert_eq!(stops_at(|k| 0.96 - 0.2 * 0.995f64.powi(k as i32), 1000), None);
         // A steady gain goes on too.
         assert_eq!(stops_at(|k| 0.5 + 1e-5 * k as f64, 1000), None);

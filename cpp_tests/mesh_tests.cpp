@@ -455,6 +455,7 @@ void test_cli(const Case &c) {
   o.lambda = 0.5;
   cases.push_back({"--method angle --lambda 0.5", o});
   o = with_boundary(QUADOPT_BOUNDARY_SLIDE);  // Options::paper() with --boundary slide
+  o.stop_rule = QUADOPT_STOP_RULE_ENERGY;
   o.tau = 1e-4;
   o.tau_absolute = 1;
   o.guard = 0;
@@ -464,6 +465,7 @@ void test_cli(const Case &c) {
   cases.push_back({"--paper --boundary slide", o});
   o = quadopt_options_defaults();
   o.guard = 0;
+  o.stop_rule = QUADOPT_STOP_RULE_ENERGY;  // --tau implies the energy rule
   o.tau = 1e-9;
   o.feature_angle_deg = 30;
   o.max_boundary_deviation = 0.5;
@@ -471,6 +473,7 @@ void test_cli(const Case &c) {
   o = quadopt_options_defaults();
   o.guard_floor = 0.2;
   o.untangle = 0;
+  o.stop_rule = QUADOPT_STOP_RULE_ENERGY;
   o.tau_absolute = 1;
   o.tau = 1e-6;
   cases.push_back({"--guard-floor 0.2 --no-untangle --absolute-tau --tau 1e-6", o});

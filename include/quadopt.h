@@ -294,7 +294,7 @@ typedef struct QuadoptOptions {
     double lambda;
     /**
      * Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
-     * vertex, or absolute when `tau_absolute` is set (default 1e-7).
+     * vertex, or absolute when `tau_absolute` is set (default 1e-7; the default quality rule ignores it).
      */
     double tau;
     /**

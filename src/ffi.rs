@@ -179,7 +179,7 @@ pub struct QuadoptOptions {
     /// Step factor, in (0, 1] (default 1).
     pub lambda: f64,
     /// Threshold of `QUADOPT_STOP_RULE_ENERGY` on the energy change between sweeps, finite and >= 0: per movable
-    /// vertex, or absolute when `tau_absolute` is set (default 1e-7).
+    /// vertex, or absolute when `tau_absolute` is set (default 1e-7; the default quality rule ignores it).
     pub tau: f64,
     /// Boundary vertices turning by more than this many degrees are corners and never move,
     /// in [0, 180] (default 45).

@@ -8,7 +8,7 @@
 
 use super::boundary::{self, BoundaryGeometry};
 use super::maxmin::{self, MaxMinSettings};
-use super::options::{BoundaryMode, Method, Options};
+use super::options::{BoundaryMode, Method, Options, StopRule};
 use super::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves, improves_with_tie, stats_of};
 use super::report::{MaxMinGain, Progress};
 use super::stopping::Stopper;
@@ -124,6 +124,7 @@ impl RunContext<'_> {
         let (mut iterations, mut converged) = (0, false);
         while iterations < opts.max_iterations && !cancelled {
             let mut energy = 0.0;
+            let mut moved = false;
             for c in 0..self.topo.colour_count() {
                 let class = self.topo.colour_class(c);
                 updates.clear();
@@ -140,6 +141,7 @@ impl RunContext<'_> {
                 // Sequential: the same sum whatever the thread count.
                 for u in &updates {
                     energy += u.energy;
+                    moved |= points[u.vertex as usize] != u.position;
                     points[u.vertex as usize] = u.position;
                     if let Some(slot) = self.geometry.slot(u.vertex as usize) {
                         params[slot] = u.param;
@@ -173,7 +175,9 @@ impl RunContext<'_> {
                     break;
                 }
             }
-            if stop {
+            // Under the quality rule a sweep that moved nothing ends the run: every later sweep
+            // would repeat it. (The energy rule is the paper's: tau = 0 runs to the cap.)
+            if stop || (!moved && opts.stop == StopRule::Quality) {
                 converged = true;
                 break;
             }

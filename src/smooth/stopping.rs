@@ -109,11 +109,14 @@ impl QualityTrend {
     }
 }
 
+/// Differences of statistics at or below this are rounding (statistics are sums of values in
+/// [-1, 1] over the quads: their rounding is far smaller).
+const ROUNDING: f64 = 1e-12;
+
 /// Whether two kept iterates rank the same. An iterate better by rounding only (1e-16) may
 /// replace the kept one; counted as a change, it would make the stop depend on rounding, and
 /// the run would not be the same after scaling or translating the mesh.
 fn same(a: &QualityStats, b: &QualityStats) -> bool {
-    const ROUNDING: f64 = 1e-12;
     a.inverted == b.inverted && (a.min - b.min).abs() <= ROUNDING && (a.avg - b.avg).abs() <= ROUNDING
 }
 
@@ -124,7 +127,6 @@ fn same(a: &QualityStats, b: &QualityStats) -> bool {
 /// Gains at rounding level count as none: a gain of 1e-16 after none would otherwise be an
 /// unbounded tail, and the stop would depend on rounding (on the mesh's scale).
 fn tail(before: f64, last: f64) -> f64 {
-    const ROUNDING: f64 = 1e-12;
     if last <= ROUNDING {
         return 0.0;
     }

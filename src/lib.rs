@@ -43,6 +43,8 @@ mod pool;
 pub mod quality;
 pub mod smooth;
 pub mod synthetic;
+#[cfg(test)]
+mod test_rng;
 pub mod topology;
 
 pub use error::{Error, Result};

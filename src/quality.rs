@@ -195,13 +195,8 @@ mod tests {
     fn skipping_the_scaling_in_range_gives_the_same_bits() {
         // Random quads (convex, folded, nearly degenerate, triangles) at scales and offsets
         // across the range: the unscaled evaluation, where it is taken, equals the scaled one.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = crate::test_rng::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = || 0.5 * rnd();
         let mut fast = 0;
         for k in 0..200_000 {
             let scale = 2f64.powf(600.0 * next());

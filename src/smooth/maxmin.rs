@@ -959,13 +959,8 @@ mod tests {
     fn fast_star_value_matches_the_scaled_jacobian() {
         // Random convex-ish quads and moving corners: the fast evaluation agrees with
         // scaled_jacobian to roundoff, or defers to it.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1du64);
+        let mut next = || 0.5 * rnd();
         let mut fast = 0;
         for _ in 0..20_000 {
             let base =

@@ -620,15 +620,7 @@ mod tests {
         Some(x)
     }
 
-    /// Deterministic pseudo-random numbers in [-1, 1).
-    fn xorshift(mut state: u64) -> impl FnMut() -> f64 {
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
+    use crate::test_rng::xorshift;
 
     const IDENTITY: Frame = Frame { origin: DVec2::ZERO, scale: 1.0 };
 

@@ -255,6 +255,18 @@ mod tests {
         }
     }
 
+    #[test]
+    fn the_quality_rule_stops_at_a_sweep_that_moved_nothing_and_the_energy_rule_does_not() {
+        // A perfect grid is a fixed point: the first sweep moves no vertex, so the quality rule
+        // (the default) stops there; the energy rule with tau = 0 runs to the cap.
+        let mut m = grid(4, 3);
+        let r = optimize(&mut m, &Options::default()).unwrap();
+        assert_eq!((r.iterations, r.converged), (1, true));
+        let energy = Options { stop: StopRule::Energy, tau: 0.0, max_iterations: 30, ..Options::default() };
+        let r = optimize(&mut grid(4, 3), &energy).unwrap();
+        assert_eq!((r.iterations, r.converged), (30, false));
+    }
+
     /// 2x2 grid whose centre (vertex 4) is pinned at (1.5, 1), every vertex fixed but the
     /// bottom-middle one (vertex 1), which sits at (1, 0) between boundary neighbours 0 and 2.
     fn one_free_boundary_vertex() -> QuadMesh {

@@ -11,6 +11,13 @@
 //! - The run itself executes on a worker (so that its parallel loops use this pool), while the
 //!   progress callback stays on the calling thread: the worker hands each progress report to
 //!   the caller and waits for the answer.
+//! - Before any `fork` of the process (a `pthread_atfork` handler), the forking thread waits
+//!   until every worker of the pool is idle: all have started, and none is still freeing the
+//!   job it ran. So no worker is inside the allocator, holding one of its locks, when the child
+//!   is made. glibc's malloc takes its own locks around `fork`, but allocators without fork
+//!   handlers do not (ASan's before LLVM 18, which GCC 12 ships: a child forked right after its
+//!   parent's first call hung in its own first allocation). A fork during a run waits for the
+//!   run's workers to reach a parallel loop's join, at most about one sweep.
 //!
 //! Worker threads run only library code, so they are marked as inside the library for the
 //! quiet panic hook (see `crate::ffi`'s `quiet` module).
@@ -159,6 +166,7 @@ fn shared() -> Option<&'static ThreadPool> {
         // (its memory is this process's copy, its threads are not here). The new pool owns
         // its workers, so their handles are let go.
         let (pool, _detached) = build(None).ok()?;
+        before_fork::install();
         let fresh = Box::into_raw(Box::new(ProcessPool { pid, pool }));
         match SHARED.compare_exchange(current, fresh, Ordering::AcqRel, Ordering::Acquire) {
             // SAFETY: just published from Box::into_raw; never freed.
@@ -201,6 +209,43 @@ fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), St
             Err(e.to_string())
         }
     }
+}
+
+/// The `fork` handler that leaves the pool idle in the parent before the child is made.
+#[cfg(unix)]
+mod before_fork {
+    use super::{Ordering, SHARED};
+    use std::sync::Once;
+
+    /// Registers the handler once per process (a forked child inherits it).
+    pub(super) fn install() {
+        static INSTALLED: Once = Once::new();
+        // SAFETY: registers a function with C linkage that never unwinds (see `quiesce`).
+        INSTALLED.call_once(|| unsafe {
+            libc::pthread_atfork(Some(quiesce), None, None);
+        });
+    }
+
+    /// Waits until every worker of this process's pool has run a trivial job, so each has
+    /// finished what it was doing before and is idle. `broadcast` keeps its jobs on the caller's
+    /// side: the workers free nothing after the caller wakes.
+    extern "C" fn quiesce() {
+        let _ = std::panic::catch_unwind(|| {
+            // SAFETY: non-NULL values of SHARED are never freed (see `shared`).
+            if let Some(p) = unsafe { SHARED.load(Ordering::Acquire).as_ref() } {
+                // A parent's pool inherited by a child has no threads here: leave it alone.
+                if p.pid == std::process::id() {
+                    p.pool.broadcast(|_| ());
+                }
+            }
+        });
+    }
+}
+
+#[cfg(not(unix))]
+mod before_fork {
+    /// No `fork` here.
+    pub(super) fn install() {}
 }
 
 /// The body of every worker thread.

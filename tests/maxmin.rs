@@ -326,3 +326,41 @@ fn cancelling_keeps_a_result_no_worse() {
     assert!(report.cancelled && report.rounds == 1);
     assert!(report.after.min >= report.before.min);
 }
+
+#[test]
+fn the_region_grows_only_while_it_stays_small() {
+    // An 80 x 80 grid (6,561 vertices) jittered evenly: every quad is about as good as the
+    // worst, so a grown threshold takes in most of the mesh.
+    let (mut p, q) = grid(80, 80);
+    let mut rng = Rng(7);
+    for (v, p) in p.iter_mut().enumerate() {
+        let (i, j) = (v % 81, v / 81);
+        if (1..80).contains(&i) && (1..80).contains(&j) {
+            *p += DVec2::new(0.3 * rng.next(), 0.3 * rng.next());
+        }
+    }
+    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let unbounded = MaxMinSettings { max_grown_region: usize::MAX, ..MaxMinSettings::default() };
+    let (_, free) = run(&mesh, BoundaryMode::Fixed, &unbounded);
+    assert!(free.largest_grown_region > 4096, "the grown region never exceeded the cap: {}", free.largest_grown_region);
+    let capped = MaxMinSettings::default();
+    assert_eq!(capped.max_grown_region, 4096);
+    let (points, report) = run(&mesh, BoundaryMode::Fixed, &capped);
+    assert!(report.largest_grown_region <= 4096, "{}", report.largest_grown_region);
+    assert_monotone(&report);
+    assert!(report.after.min > report.before.min, "{:?}", report.history);
+    let values = quality(&points, mesh.quads());
+    assert_eq!(values.iter().copied().fold(f64::INFINITY, f64::min), report.after.min);
+    // Fixed boundary: the grid's outer vertices did not move.
+    for (v, (a, b)) in points.iter().zip(mesh.points()).enumerate() {
+        let (i, j) = (v % 81, v / 81);
+        if !(1..80).contains(&i) || !(1..80).contains(&j) {
+            assert_eq!((a.x.to_bits(), a.y.to_bits()), (b.x.to_bits(), b.y.to_bits()), "vertex {v}");
+        }
+    }
+    println!(
+        "capped: {} rounds, min {:.4}, largest grown region {}; unbounded: {} rounds, min {:.4}, {}",
+        report.rounds, report.after.min, report.largest_grown_region, free.rounds, free.after.min,
+        free.largest_grown_region
+    );
+}

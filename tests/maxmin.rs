@@ -364,3 +364,32 @@ fn the_region_grows_only_while_it_stays_small() {
         free.largest_grown_region
     );
 }
+
+#[test]
+fn the_average_recovery_stops_when_a_sweep_gains_little() {
+    let (mut p, q) = grid(16, 16);
+    let mut rng = Rng(11);
+    for (v, p) in p.iter_mut().enumerate() {
+        let (i, j) = (v % 17, v / 17);
+        if (1..16).contains(&i) && (1..16).contains(&j) {
+            *p += DVec2::new(0.35 * rng.next(), 0.35 * rng.next());
+        }
+    }
+    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let with = |gain: f64| {
+        let settings = MaxMinSettings { average_min_gain: gain, ..MaxMinSettings::default() };
+        run(&mesh, BoundaryMode::Fixed, &settings).1
+    };
+    // Every recovery sweep raises the average (each move raises its star's), so a sweep
+    // always gains less than 1: one sweep; with no threshold it goes on to its cap or until
+    // nothing moves.
+    let (one, all, default) = (with(1.0), with(0.0), with(MaxMinSettings::default().average_min_gain));
+    assert_eq!(one.average_sweeps, 1);
+    assert!(all.average_sweeps > default.average_sweeps.max(1), "{} vs {}", all.average_sweeps, default.average_sweeps);
+    assert!(all.average_sweeps <= MaxMinSettings::default().average_sweeps);
+    for r in [&one, &all, &default] {
+        assert_monotone(r);
+    }
+    assert!(all.after.avg >= default.after.avg && default.after.avg >= one.after.avg);
+    assert!(all.after.avg > one.after.avg);
+}

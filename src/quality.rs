@@ -98,12 +98,21 @@ fn scaled_jacobian_in_range(q: &[DVec2; 4]) -> f64 {
     }
     let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
     let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
-    let short = DEGENERATE_EDGE_RELATIVE * (hi - lo).length();
     // Edge i runs from corner i to corner i + 1.
     let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
     let len = [e[0].length(), e[1].length(), e[2].length(), e[3].length()];
-    if len.iter().any(|&l| l == 0.0 || l < short) {
-        return 0.0;
+    let shortest = len[0].min(len[1]).min(len[2]).min(len[3]);
+    // The cut-off is DEGENERATE_EDGE_RELATIVE times the diagonal |hi - lo| <= dx + dy; the
+    // computed diagonal exceeds dx + dy by at most 2 ulps, the bound below falls short of it
+    // by at most 3 and is raised by 4: an edge at least this long is not short, and the
+    // diagonal's square root is needed only for the rare quads with a shorter edge.
+    let d = hi - lo;
+    let clearly_long = DEGENERATE_EDGE_RELATIVE * (d.x + d.y) * (1.0 + 4.0 * f64::EPSILON);
+    if shortest == 0.0 || shortest < clearly_long {
+        let short = DEGENERATE_EDGE_RELATIVE * d.length();
+        if len.iter().any(|&l| l == 0.0 || l < short) {
+            return 0.0;
+        }
     }
     let mut min = f64::INFINITY;
     for i in 0..4 {
@@ -216,6 +225,60 @@ mod tests {
             assert!(value.to_bits() == slow.to_bits(), "{q:?}: {value} vs {slow}");
         }
         assert!(fast > 50_000, "the unscaled path was taken {fast} times");
+    }
+
+    /// The degenerate-edge rule as Verdict states it: the diagonal's square root always taken.
+    fn reference_in_range(q: &[DVec2; 4]) -> f64 {
+        let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
+        let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
+        let short = DEGENERATE_EDGE_RELATIVE * (hi - lo).length();
+        let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
+        let len = e.map(|e| e.length());
+        if len.iter().any(|&l| l == 0.0 || l < short) {
+            return 0.0;
+        }
+        (0..4)
+            .map(|i| e[(i + 3) % 4].perp_dot(e[i]) / (len[i] * len[(i + 3) % 4]))
+            .fold(f64::INFINITY, f64::min)
+            .clamp(-1.0, 1.0)
+    }
+
+    #[test]
+    fn the_short_edge_test_without_the_diagonal_agrees_at_the_cut_off() {
+        // Quads with one edge within a few ulps of the cut-off (10 eps times the diagonal),
+        // shorter and longer, in every direction: the same bits as the reference.
+        let mut rnd = crate::test_rng::xorshift(0x51ed_2701_aa3c_9e11u64);
+        let (mut zero, mut nonzero) = (0, 0);
+        for _ in 0..200_000 {
+            let angle = 3.2 * rnd();
+            let q0 = DVec2::new(rnd(), rnd());
+            let q2 = DVec2::new(1.0 + rnd(), 1.0 + rnd()) * 4.0;
+            let q3 = DVec2::new(rnd(), 3.0 + rnd());
+            let lo = q0.min(q2).min(q3);
+            let hi = q0.max(q2).max(q3);
+            // An edge q0 -> q1 of about the cut-off's length (q1 stays inside the box).
+            let cut = DEGENERATE_EDGE_RELATIVE * (hi - lo).length();
+            let q1 = q0 + DVec2::from_angle(angle) * cut * (1.0 + 8.0 * f64::EPSILON * rnd());
+            let q = [q0, q1, q2, q3];
+            let (got, want) = (scaled_jacobian_in_range(&q), reference_in_range(&q));
+            assert_eq!(got.to_bits(), want.to_bits(), "{q:?}");
+            if want == 0.0 { zero += 1 } else { nonzero += 1 }
+        }
+        // Both sides of the cut-off were exercised.
+        assert!(zero > 1000 && nonzero > 1000, "{zero} degenerate, {nonzero} not");
+        // Thin rectangles at the origin (so the short sides are exact), where the diagonal is
+        // nearly dx + dy and the bound is tight: a height within ulps of the cut-off.
+        let (mut zero, mut nonzero) = (0, 0);
+        for k in 0..100_000 {
+            let width = 1.0 + rnd().abs();
+            let ulps = (k % 33) as f64 - 16.0;
+            let height = DEGENERATE_EDGE_RELATIVE * width * (1.0 + ulps * f64::EPSILON);
+            let q = [DVec2::ZERO, DVec2::new(width, 0.0), DVec2::new(width, height), DVec2::new(0.0, height)];
+            let (got, want) = (scaled_jacobian_in_range(&q), reference_in_range(&q));
+            assert_eq!(got.to_bits(), want.to_bits(), "{q:?}");
+            if want == 0.0 { zero += 1 } else { nonzero += 1 }
+        }
+        assert!(zero > 1000 && nonzero > 1000, "thin: {zero} degenerate, {nonzero} not");
     }
 
     use super::*;

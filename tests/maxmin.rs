@@ -342,7 +342,11 @@ fn the_region_grows_only_while_it_stays_small() {
     let mesh = QuadMesh::new(p, q, None).unwrap();
     let unbounded = MaxMinSettings { max_grown_region: usize::MAX, ..MaxMinSettings::default() };
     let (_, free) = run(&mesh, BoundaryMode::Fixed, &unbounded);
-    assert!(free.largest_grown_region > 4096, "the grown region never exceeded the cap: {}", free.largest_grown_region);
+    assert!(
+        free.largest_grown_region > 4096,
+        "the grown region never exceeded the cap: {}",
+        free.largest_grown_region
+    );
     let capped = MaxMinSettings::default();
     assert_eq!(capped.max_grown_region, 4096);
     let (points, report) = run(&mesh, BoundaryMode::Fixed, &capped);
@@ -360,7 +364,11 @@ fn the_region_grows_only_while_it_stays_small() {
     }
     println!(
         "capped: {} rounds, min {:.4}, largest grown region {}; unbounded: {} rounds, min {:.4}, {}",
-        report.rounds, report.after.min, report.largest_grown_region, free.rounds, free.after.min,
+        report.rounds,
+        report.after.min,
+        report.largest_grown_region,
+        free.rounds,
+        free.after.min,
         free.largest_grown_region
     );
 }
@@ -385,7 +393,12 @@ fn the_average_recovery_stops_when_a_sweep_gains_little() {
     // nothing moves.
     let (one, all, default) = (with(1.0), with(0.0), with(MaxMinSettings::default().average_min_gain));
     assert_eq!(one.average_sweeps, 1);
-    assert!(all.average_sweeps > default.average_sweeps.max(1), "{} vs {}", all.average_sweeps, default.average_sweeps);
+    assert!(
+        all.average_sweeps > default.average_sweeps.max(1),
+        "{} vs {}",
+        all.average_sweeps,
+        default.average_sweeps
+    );
     assert!(all.average_sweeps <= MaxMinSettings::default().average_sweeps);
     for r in [&one, &all, &default] {
         assert_monotone(r);

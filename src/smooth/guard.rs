@@ -12,10 +12,15 @@ use glam::DVec2;
 /// Step halvings tried before a guarded vertex stays where it is.
 const MAX_HALVINGS: usize = 8;
 
-/// Minimum scaled Jacobian of the quads around `v` with `v` placed at `at`.
-pub fn star_min(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize, at: DVec2) -> f64 {
-    let mut min = f64::INFINITY;
-    for &qi in topo.vertex_quads(v) {
+/// The corners of each quad around `v`, with `v` placed at `at`.
+fn star_quads<'a>(
+    points: &'a [DVec2],
+    quads: &'a [[u32; 4]],
+    topo: &'a Topology,
+    v: usize,
+    at: DVec2,
+) -> impl Iterator<Item = [DVec2; 4]> + 'a {
+    topo.vertex_quads(v).iter().map(move |&qi| {
         let q = &quads[qi as usize];
         let mut c = corners(points, q);
         for (k, &u) in q.iter().enumerate() {
@@ -23,9 +28,26 @@ pub fn star_min(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize,
                 c[k] = at;
             }
         }
-        min = min.min(scaled_jacobian(&c));
-    }
-    min
+        c
+    })
+}
+
+/// Minimum scaled Jacobian of the quads around `v` with `v` placed at `at`.
+pub fn star_min(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize, at: DVec2) -> f64 {
+    star_quads(points, quads, topo, v, at).map(|c| scaled_jacobian(&c)).fold(f64::INFINITY, f64::min)
+}
+
+/// Whether every quad around `v` with `v` placed at `at` is at or above `floor`: the answer of
+/// `star_min(..) >= floor` (a NaN value passes in both), stopping at the first quad below.
+pub fn star_at_least(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    topo: &Topology,
+    v: usize,
+    at: DVec2,
+    floor: f64,
+) -> bool {
+    !star_quads(points, quads, topo, v, at).any(|c| scaled_jacobian(&c) < floor) && f64::INFINITY >= floor
 }
 
 /// Minimum and average scaled Jacobian of the quads around `v` with `v` placed at `at`.
@@ -37,20 +59,12 @@ pub fn star_min_avg(
     at: DVec2,
 ) -> (f64, f64) {
     let (mut min, mut sum) = (f64::INFINITY, 0.0);
-    let star = topo.vertex_quads(v);
-    for &qi in star {
-        let q = &quads[qi as usize];
-        let mut c = corners(points, q);
-        for (k, &u) in q.iter().enumerate() {
-            if u as usize == v {
-                c[k] = at;
-            }
-        }
+    for c in star_quads(points, quads, topo, v, at) {
         let sj = scaled_jacobian(&c);
         min = min.min(sj);
         sum += sj;
     }
-    (min, sum / star.len().max(1) as f64)
+    (min, sum / topo.vertex_quads(v).len().max(1) as f64)
 }
 
 /// The position actually taken by `v` when it wants to go to `target`: the target itself if
@@ -76,7 +90,7 @@ pub fn guarded_position(
     }
     // A target at or above the floor is acceptable whatever the current value (the bar is
     // min(current, floor)), so the current star is only evaluated when needed.
-    if star_min(points, quads, topo, v, target) >= floor {
+    if star_at_least(points, quads, topo, v, target, floor) {
         return target;
     }
     let current = star_min(points, quads, topo, v, p);
@@ -118,6 +132,30 @@ fn longest_step(
 mod tests {
     use super::*;
     use crate::QuadMesh;
+
+    #[test]
+    fn star_at_least_answers_as_star_min_does() {
+        let mut p = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                p.push(DVec2::new(i as f64, j as f64));
+            }
+        }
+        let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
+        let t = Topology::new(&m);
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let (mut yes, mut no) = (0, 0);
+        for k in 0..20_000 {
+            // The centre anywhere around its star (folded stars included), floors across [-1, 1]
+            // and NaN.
+            let at = DVec2::new(1.0 + 1.5 * rnd(), 1.0 + 1.5 * rnd());
+            let floor = if k % 100 == 0 { f64::NAN } else { rnd() };
+            let want = star_min(m.points(), m.quads(), &t, 4, at) >= floor;
+            assert_eq!(star_at_least(m.points(), m.quads(), &t, 4, at, floor), want, "{at} {floor}");
+            if want { yes += 1 } else { no += 1 }
+        }
+        assert!(yes > 1000 && no > 1000, "{yes} {no}");
+    }
 
     #[test]
     fn guarded_move_never_folds_a_valid_star() {

@@ -327,19 +327,25 @@ fn cancelling_keeps_a_result_no_worse() {
     assert!(report.after.min >= report.before.min);
 }
 
+/// An n x n grid of unit squares whose interior vertices are moved by up to `amount` per axis.
+fn jittered_grid(n: u32, amount: f64, seed: u64) -> QuadMesh {
+    let (mut p, q) = grid(n, n);
+    let mut rng = Rng(seed);
+    let row = n as usize + 1;
+    for (v, p) in p.iter_mut().enumerate() {
+        let (i, j) = (v % row, v / row);
+        if (1..row - 1).contains(&i) && (1..row - 1).contains(&j) {
+            *p += DVec2::new(amount * rng.next(), amount * rng.next());
+        }
+    }
+    QuadMesh::new(p, q, None).unwrap()
+}
+
 #[test]
 fn the_region_grows_only_while_it_stays_small() {
     // An 80 x 80 grid (6,561 vertices) jittered evenly: every quad is about as good as the
     // worst, so a grown threshold takes in most of the mesh.
-    let (mut p, q) = grid(80, 80);
-    let mut rng = Rng(7);
-    for (v, p) in p.iter_mut().enumerate() {
-        let (i, j) = (v % 81, v / 81);
-        if (1..80).contains(&i) && (1..80).contains(&j) {
-            *p += DVec2::new(0.3 * rng.next(), 0.3 * rng.next());
-        }
-    }
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = jittered_grid(80, 0.3, 7);
     let unbounded = MaxMinSettings { max_grown_region: usize::MAX, ..MaxMinSettings::default() };
     let (_, free) = run(&mesh, BoundaryMode::Fixed, &unbounded);
     assert!(
@@ -375,15 +381,7 @@ fn the_region_grows_only_while_it_stays_small() {
 
 #[test]
 fn the_average_recovery_stops_when_a_sweep_gains_little() {
-    let (mut p, q) = grid(16, 16);
-    let mut rng = Rng(11);
-    for (v, p) in p.iter_mut().enumerate() {
-        let (i, j) = (v % 17, v / 17);
-        if (1..16).contains(&i) && (1..16).contains(&j) {
-            *p += DVec2::new(0.35 * rng.next(), 0.35 * rng.next());
-        }
-    }
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = jittered_grid(16, 0.35, 11);
     let with = |gain: f64| {
         let settings = MaxMinSettings { average_min_gain: gain, ..MaxMinSettings::default() };
         run(&mesh, BoundaryMode::Fixed, &settings).1

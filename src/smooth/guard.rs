@@ -133,8 +133,8 @@ mod tests {
     use super::*;
     use crate::QuadMesh;
 
-    #[test]
-    fn star_at_least_answers_as_star_min_does() {
+    /// 2x2 unit squares; vertex 4 is the centre.
+    fn grid_2x2() -> (QuadMesh, Topology) {
         let mut p = Vec::new();
         for j in 0..3 {
             for i in 0..3 {
@@ -143,6 +143,12 @@ mod tests {
         }
         let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
         let t = Topology::new(&m);
+        (m, t)
+    }
+
+    #[test]
+    fn star_at_least_answers_as_star_min_does() {
+        let (m, t) = grid_2x2();
         let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
         let (mut yes, mut no) = (0, 0);
         for k in 0..20_000 {
@@ -160,14 +166,7 @@ mod tests {
     #[test]
     fn guarded_move_never_folds_a_valid_star() {
         // 2x2 grid, centre vertex 4; a target far outside its star would fold it.
-        let mut p = Vec::new();
-        for j in 0..3 {
-            for i in 0..3 {
-                p.push(DVec2::new(i as f64, j as f64));
-            }
-        }
-        let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
-        let t = Topology::new(&m);
+        let (m, t) = grid_2x2();
         let target = DVec2::new(5.0, 1.0);
         let got = guarded_position(m.points(), m.quads(), &t, 4, target, 0.05);
         assert!(star_min(m.points(), m.quads(), &t, 4, got) >= 0.05);

@@ -832,14 +832,16 @@ fn sweep(
 /// how many there are.
 fn mark_region(quads: &[[u32; 4]], values: &[f64], threshold: f64, in_region: &mut [bool]) -> usize {
     in_region.fill(false);
+    let mut count = 0;
     for (q, &value) in quads.iter().zip(values) {
         if value < threshold {
             for &u in q {
+                count += usize::from(!in_region[u as usize]);
                 in_region[u as usize] = true;
             }
         }
     }
-    in_region.iter().filter(|&&b| b).count()
+    count
 }
 
 /// Mean value of the quads with a vertex in the region (0 for an empty region).

@@ -404,3 +404,50 @@ fn the_average_recovery_stops_when_a_sweep_gains_little() {
     assert!(all.after.avg >= default.after.avg && default.after.avg >= one.after.avg);
     assert!(all.after.avg > one.after.avg);
 }
+
+/// Per quad, min(0.1 x its longest edge, 0.5 x its shortest edge).
+fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
+    quads
+        .iter()
+        .map(|q| {
+            let e: Vec<f64> =
+                (0..4).map(|i| points[q[i] as usize].distance(points[q[(i + 1) % 4] as usize])).collect();
+            let longest = e.iter().copied().fold(0.0, f64::max);
+            let shortest = e.iter().copied().fold(f64::INFINITY, f64::min);
+            (0.1 * longest).min(0.5 * shortest)
+        })
+        .collect()
+}
+
+/// The scaled Jacobian does not see aspect ratio: a stage free to move would squash quads into
+/// thin rectangles that score near 1 (it did, down to 1e-15 of a quad's size). No edge may end
+/// shorter than a tenth of its quad's longest edge or half its shortest when the stage began,
+/// on the jittered grids, on the hard meshes and on the sample meshes.
+#[test]
+fn no_edge_is_squashed_below_its_floor() {
+    let mut meshes: Vec<(String, QuadMesh)> =
+        (1..6).map(|s| (format!("jittered {s}"), jittered(9, 7, s))).collect();
+    meshes.extend((1..4).map(|s| (format!("jittered grid {s}"), jittered_grid(12, 0.45, s))));
+    meshes.extend(common::hard::hard_meshes().into_iter().map(|(n, m)| (n.to_string(), m)));
+    for path in common::samples::sample_files() {
+        let (name, mesh, _) = common::samples::load(&path);
+        meshes.push((name, mesh));
+    }
+    for (name, mesh) in meshes {
+        let floors = edge_floors(mesh.points(), mesh.quads());
+        let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
+        for (qi, q) in mesh.quads().iter().enumerate() {
+            for i in 0..4 {
+                let (a, b) = (q[i] as usize, q[(i + 1) % 4] as usize);
+                let length = points[a].distance(points[b]);
+                // Rounding: the floor is compared on squared lengths.
+                assert!(
+                    length >= floors[qi] * (1.0 - 1e-12),
+                    "{name}: edge {a}-{b} of quad {qi} is {length:e} long, its floor {:e} ({} moves)",
+                    floors[qi],
+                    report.moves
+                );
+            }
+        }
+    }
+}

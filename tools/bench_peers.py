@@ -13,7 +13,8 @@ the smoothing step alone, no meshing or file IO), CPU s (CPU seconds of that ste
 gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's CPU time minus
 that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
 fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
-all quads), inverted (quads with scaled Jacobian <= 0), and quadopt's time divided by the
+all quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
+edge ratio of a quad; see "thin" below), and quadopt's time divided by the
 tool's, wall-clock and CPU (below 1: quadopt is faster; no CPU ratio where either CPU time is
 under 1 ms, the noise of process accounting). On a machine shared with other work the
 CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
@@ -70,7 +71,10 @@ output, that the quads are the input's and that every held vertex is bit-identic
 input; a violation is printed as a note and flagged in the table. Times are medians over
 --repeat runs (default 3, or 1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1;
 a run that took more than 20 s is not repeated); the gmsh runs of one optimizer must give
-bit-identical coordinates on every repeat.
+bit-identical coordinates on every repeat. The scaled Jacobian does not see aspect ratio, so the
+wide table marks an output "(thin R)" when its smallest edge ratio R (shortest over longest edge
+of a quad) is below a tenth of the input's: it squashed quads into thin rectangles that score
+well.
 """
 
 import argparse
@@ -640,9 +644,18 @@ class Evaluator:
             sj[t] = cr / den * 2 / math.sqrt(3) if den > 1e-30 else 0.0
         return sj
 
+    def edge_ratio(self, points):
+        """Smallest shortest/longest edge ratio of a quad: the scaled Jacobian does not see
+        aspect ratio, so a quad squashed into a thin rectangle scores near 1 and only this shows it."""
+        p = self._project(points)[self.quads]
+        ln = np.linalg.norm(np.roll(p, -1, axis=1) - p, axis=2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return float(np.nan_to_num(ln.min(axis=1) / ln.max(axis=1)).min())
+
     def stats(self, points):
         sj = self.scaled_jacobians(points)
-        return dict(min=float(sj.min()), avg=float(sj.mean()), inverted=int(np.count_nonzero(sj <= 0)), quads=len(sj))
+        return dict(min=float(sj.min()), avg=float(sj.mean()), inverted=int(np.count_nonzero(sj <= 0)), quads=len(sj),
+                    edge_ratio=self.edge_ratio(points))
 
 
 def child_cpu():
@@ -797,7 +810,7 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
     cross_check(label, "input", q_in, q_quadopt)
     held = held_vertices(mesh)
     fixed = mesh.fixed if mesh.fixed is not None else np.zeros(len(mesh.points), dtype=bool)
-    rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted")}))
+    rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted", "edge_ratio")}))
 
     runs = []  # (tool name, result dict, vertices that must not move)
     for method in GMSH_METHODS:
@@ -841,13 +854,17 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
         cpu_ratio = q_run["cpu"] / r["cpu"] if peer and min(r["cpu"], q_run["cpu"]) >= CPU_FLOOR else None
         rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
                          process_cpu_seconds=r.get("process_cpu_seconds"),
-                         min=q["min"], avg=q["avg"],
+                         min=q["min"], avg=q["avg"], edge_ratio=q["edge_ratio"],
                          inverted=q["inverted"], cpu=r["cpu"], quadopt_ratio=ratio, quadopt_cpu_ratio=cpu_ratio, flags=flags))
     return rows
 
 
 # CPU times below this (seconds) are within the noise of process accounting: no CPU ratio.
 CPU_FLOOR = 1e-3
+
+# An output whose smallest edge ratio (shortest over longest edge of a quad) falls below this
+# fraction of the input's is marked "(thin R)" in the wide table: it has squashed quads.
+THIN = 0.1
 
 
 def fmt_seconds(x):
@@ -867,14 +884,14 @@ def cpu_ratios(rows):
 
 
 def fmt_rows(rows):
-    out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | quadopt / tool (s) | quadopt / tool (CPU) |",
-           "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | edge ratio | quadopt / tool (s) | quadopt / tool (CPU) |",
+           "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r, cr in zip(rows, cpu_ratios(rows)):
         ratio = "" if r.get("quadopt_ratio") is None else f"{r['quadopt_ratio']:.3g}"
         cratio = "" if cr is None else f"{cr:.3g}"
         tool = r["tool"] + (" (!)" if r.get("flags") else "")
         out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
-                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {ratio} | {cratio} |")
+                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {r['edge_ratio']:.1e} | {ratio} | {cratio} |")
     return "\n".join(out)
 
 
@@ -899,6 +916,9 @@ def fmt_wide(rows):
             c = f"{r['min']:.3f} / {r['avg']:.3f}"
             if r["inverted"]:
                 c += f" ({r['inverted']} inv.)"
+            thin = r.get("edge_ratio")
+            if name != "input" and thin is not None and thin < THIN * t["input"]["edge_ratio"]:
+                c += f" (thin {thin:.0e})"
             if r.get("cpu") is not None:
                 c += f", {fmt_seconds(r['cpu'])} s"
             if r["cpu_ratio"] is not None:

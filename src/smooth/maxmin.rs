@@ -52,6 +52,32 @@ const BOUNDARY_MARGIN: f64 = 0.05;
 /// shuffle vertices by 1e-16 forever).
 const MIN_RISE: f64 = 1e-9;
 
+/// No move of the stage may shorten an edge below this fraction of the longest edge its quad
+/// had when the stage began, nor below [`SHORTEST_EDGE_KEPT`] of its quad's shortest edge
+/// then. The scaled Jacobian does not see aspect ratio: without this floor the stage
+/// collapsed quads into slivers that score well (an edge 3e-15 of its quad's on Mesquite's
+/// horse20x10, 1e-5 on hole_in_square), useless to a solver and meaningless once the
+/// coordinates are rounded.
+const SHORTEST_EDGE_FRACTION: f64 = 0.1;
+
+/// See [`SHORTEST_EDGE_FRACTION`]: how much of a quad's already short edge a move may take.
+const SHORTEST_EDGE_KEPT: f64 = 0.5;
+
+/// Per quad, the squared length no edge at a moving vertex may fall below during the stage
+/// (see [`SHORTEST_EDGE_FRACTION`]).
+fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
+    let mut floors = Vec::with_capacity(quads.len());
+    floors.par_extend(quads.par_iter().map(|q| {
+        let c = corners(points, q);
+        let squared = |i: usize| (c[(i + 1) % 4] - c[i]).length_squared();
+        let longest = (0..4).map(squared).fold(0.0, f64::max);
+        let shortest = (0..4).map(squared).fold(f64::INFINITY, f64::min);
+        (SHORTEST_EDGE_FRACTION * SHORTEST_EDGE_FRACTION * longest)
+            .min(SHORTEST_EDGE_KEPT * SHORTEST_EDGE_KEPT * shortest)
+    }));
+    floors
+}
+
 /// Classes with fewer region vertices than this are solved on the calling thread.
 const PARALLEL_MIN: usize = 32;
 
@@ -201,6 +227,9 @@ struct Star {
     valid: Vec<bool>,
     /// Per quad, what does not depend on the moving corner.
     fixed_part: Vec<FixedPart>,
+    /// Per quad, the squared length below which neither edge at the moving corner may fall
+    /// ([`edge_floors`]).
+    shortest_squared: Vec<f64>,
 }
 
 /// The corners and edges of a star quad that stay put while its corner at the vertex moves:
@@ -262,7 +291,7 @@ struct Value {
 const REJECTED: Value = Value { min: f64::NEG_INFINITY, avg: f64::NEG_INFINITY };
 
 impl Star {
-    fn new(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> Star {
+    fn new(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, edge_floors: &[f64], v: usize) -> Star {
         let quads: Vec<([DVec2; 4], usize)> = topo
             .vertex_quads(v)
             .iter()
@@ -273,7 +302,17 @@ impl Star {
             .collect();
         let valid = quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect();
         let fixed_part = quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect();
-        Star { quads, valid, fixed_part }
+        // Never above the current lengths, so that staying put is always allowed.
+        let shortest_squared = topo
+            .vertex_quads(v)
+            .iter()
+            .zip(&quads)
+            .map(|(&qi, (c, k))| {
+                let (next, prev) = moving_edges(c, *k, c[*k]);
+                edge_floors.get(qi as usize).map_or(0.0, |&f| f.min(next).min(prev))
+            })
+            .collect();
+        Star { quads, valid, fixed_part, shortest_squared }
     }
 
     fn value(&self, at: DVec2) -> Value {
@@ -285,7 +324,12 @@ impl Star {
     /// of -inf. For a candidate that cannot be taken, whatever its true value.
     fn value_above(&self, at: DVec2, bar: f64) -> Value {
         let (mut min, mut sum) = (f64::INFINITY, 0.0);
-        for (((c, k), &valid), part) in self.quads.iter().zip(&self.valid).zip(&self.fixed_part) {
+        let quads = self.quads.iter().zip(&self.valid).zip(&self.fixed_part).zip(&self.shortest_squared);
+        for ((((c, k), &valid), part), &shortest) in quads {
+            let (next, prev) = moving_edges(c, *k, at);
+            if next < shortest || prev < shortest {
+                return REJECTED;
+            }
             let q = part.value(at).unwrap_or_else(|| {
                 let mut c = *c;
                 c[*k] = at;
@@ -339,6 +383,13 @@ impl Star {
             }
         }
     }
+}
+
+/// Squared lengths of the two edges at corner `k` of quad `c` with that corner at `at`: to the
+/// next corner and to the previous one.
+#[inline]
+fn moving_edges(c: &[DVec2; 4], k: usize, at: DVec2) -> (f64, f64) {
+    ((c[(k + 1) % 4] - at).length_squared(), (c[(k + 3) % 4] - at).length_squared())
 }
 
 /// Candidate positions seen by a local search, and the choice among them.
@@ -578,14 +629,13 @@ impl Objective {
 /// The best position for interior vertex `v` under `objective`, if one improves its star.
 fn interior_move(
     points: &[DVec2],
-    quads: &[[u32; 4]],
-    topo: &Topology,
+    ctx: &Context,
     v: usize,
-    settings: &MaxMinSettings,
     solver: LocalSolver,
     objective: Objective,
 ) -> Option<DVec2> {
-    let star = Star::new(points, quads, topo, v);
+    let (settings, topo) = (ctx.settings, ctx.topo);
+    let star = Star::new(points, ctx.quads, topo, ctx.edge_floors, v);
     let p = points[v];
     let current = star.value(p);
     // Extent of the star: the largest offsets to the ring's vertices, per axis (as DMO).
@@ -634,17 +684,14 @@ fn interior_move(
 /// The best arclength for movable boundary vertex `v` on its original loop under
 /// `objective`, if one improves its star: a nested 1-D search between its boundary
 /// neighbours.
-#[allow(clippy::too_many_arguments)]
 fn boundary_move(
     points: &[DVec2],
     params: &[f64],
-    quads: &[[u32; 4]],
-    topo: &Topology,
-    geometry: &BoundaryGeometry,
+    ctx: &Context,
     v: usize,
-    settings: &MaxMinSettings,
     objective: Objective,
 ) -> Option<(DVec2, f64)> {
+    let (geometry, settings) = (ctx.geometry, ctx.settings);
     let slot = geometry.slot(v)?;
     let l = geometry.slot_loop(slot);
     let (a, b) = geometry.loop_slots(l);
@@ -664,7 +711,7 @@ fn boundary_move(
     if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
         return None;
     }
-    let star = Star::new(points, quads, topo, v);
+    let star = Star::new(points, ctx.quads, ctx.topo, ctx.edge_floors, v);
     let current = star.value(points[v]);
     let score = objective.score(current);
     let mut seen: Candidates<f64> = Candidates::new();
@@ -716,6 +763,8 @@ struct Context<'a> {
     features: &'a Features,
     geometry: &'a BoundaryGeometry,
     settings: &'a MaxMinSettings,
+    /// [`edge_floors`] at the stage's start.
+    edge_floors: &'a [f64],
 }
 
 impl Context<'_> {
@@ -778,7 +827,7 @@ fn sweep(
             let solve = |&v: &u32| {
                 let vi = v as usize;
                 let found = if ctx.features.is_boundary(vi) {
-                    boundary_move(pts, prm, ctx.quads, ctx.topo, ctx.geometry, vi, ctx.settings, objective)
+                    boundary_move(pts, prm, ctx, vi, objective)
                 } else {
                     // The grid has placed v near its optimum once: later rounds only follow
                     // its neighbours' moves, which the active set does at a fraction of the cost.
@@ -786,8 +835,7 @@ fn sweep(
                         LocalSolver::GridActiveSet if warm[vi] => LocalSolver::ActiveSet,
                         s => s,
                     };
-                    interior_move(pts, ctx.quads, ctx.topo, vi, ctx.settings, solver, objective)
-                        .map(|p| (p, 0.0))
+                    interior_move(pts, ctx, vi, solver, objective).map(|p| (p, 0.0))
                 };
                 (v, found)
             };
@@ -888,7 +936,8 @@ pub fn max_min_stage(
     if quads.is_empty() || before.min.is_nan() || before.min >= 1.0 - MIN_RISE {
         return report;
     }
-    let ctx = Context { quads, topo, features, geometry, settings };
+    let edge_floors = edge_floors(points, quads);
+    let ctx = Context { quads, topo, features, geometry, settings, edge_floors: &edge_floors };
     let mut in_region = vec![false; points.len()];
     // The region a growth would give (an escape still needs the round's own region).
     let mut grown_region = vec![false; points.len()];

@@ -7,9 +7,11 @@ use crate::topology::{Topology, VertexKind};
 use glam::DVec2;
 
 /// Tolerance on the feature angle, in degrees: angles within it of the threshold are not
-/// corners, so roundoff cannot decide (a regular octagon's 135 degree angles sit exactly on
-/// the default 45 degree threshold).
-const FEATURE_ANGLE_TOLERANCE_DEG: f64 = 1e-6;
+/// corners, so rounding cannot decide (a regular octagon's 135 degree angles sit exactly on
+/// the default 45 degree threshold). It must exceed what the normalization's grid can do to an
+/// angle: vertices move by at most 2^-21 of the shortest edge, which turns an edge by at most
+/// 2^-21 rad and an angle by 2^-20 rad = 5.5e-5 degrees (src/normalization.rs).
+const FEATURE_ANGLE_TOLERANCE_DEG: f64 = 1e-3;
 
 /// The role of each vertex in one run.
 #[derive(Clone, Debug)]

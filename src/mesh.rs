@@ -86,6 +86,11 @@ impl QuadMesh {
         &mut self.points
     }
 
+    /// Mutable vertex positions together with the quads (which cannot change).
+    pub(crate) fn points_mut_and_quads(&mut self) -> (&mut [DVec2], &[[u32; 4]]) {
+        (&mut self.points, &self.quads)
+    }
+
     /// Quads, consistently oriented counter-clockwise.
     pub fn quads(&self) -> &[[u32; 4]] {
         &self.quads

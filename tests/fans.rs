@@ -34,14 +34,19 @@ fn fans_of_800_and_2000_quads_are_untangled_at_every_scale() {
             assert!(report.untangle_sweeps >= 1, "{at}");
             // Only the centre may move: every boundary vertex is a corner.
             assert_eq!(&mesh.points()[1..], &before[1..], "{at}: a boundary vertex moved");
-            // The best placement of the centre is the origin, with minimum sin(2 pi / n).
+            // The best placement of the centre is the origin, with minimum sin(2 pi / n). The
+            // run places it for the ring rounded to the normalization's grid (2^-21 of the
+            // shortest edge), so these thin quads (sin(2 pi / n) = 3e-3) end within about
+            // 2^-21 / (2 pi / n) of it in relative terms: 2e-5 at 2,000 quads.
             let best = (TAU / n as f64).sin();
             assert!(
-                report.output.min > (1.0 - 1e-5) * best && report.output.min <= best * (1.0 + 1e-9),
+                report.output.min > (1.0 - 1e-4) * best && report.output.min <= best * (1.0 + 1e-9),
                 "{at}: min {} against the best possible {best}",
                 report.output.min
             );
-            assert!(mesh.points()[0].length() < 1e-5 * scale, "{at}: centre at {}", mesh.points()[0]);
+            // The max-min optimum of 2,000 nearly parallel constraints is flat: the grid's
+            // rounding of the ring moves it by 2e-5 of the radius.
+            assert!(mesh.points()[0].length() < 1e-4 * scale, "{at}: centre at {}", mesh.points()[0]);
         }
     }
 }

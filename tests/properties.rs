@@ -515,7 +515,8 @@ proptest! {
                     "{:?}/{:?}: inverted {} -> {}", method, boundary, input.inverted, got.inverted);
                 prop_assert!(got.min >= input.min,
                     "{:?}/{:?}: min {} -> {}", method, boundary, input.min, got.min);
-                prop_assert_eq!(r.tangled.len(), got.inverted);
+                prop_assert_eq!(r.tangled.len(), got.inverted, "{:?}/{:?}: the diagnosis {:?} against the output's values {:?}",
+                    method, boundary, r.tangled, out.quality_values());
                 let (before, after) = (mesh.quality_values(), out.quality_values());
                 let new = (0..before.len()).find(|&q| before[q] > 0.0 && after[q] <= 0.0);
                 prop_assert!(new.is_none(), "{:?}/{:?}: quad {:?} was valid and is inverted", method, boundary, new);

@@ -117,11 +117,22 @@ impl PlanarFrame {
                 (scale_by_power_of_two(distance, e), scale_by_power_of_two(tolerance, e));
             return Err(Error::NotPlanar { vertex: worst, distance, tolerance });
         }
-        // u: the coordinate axis most parallel to the plane, projected into it.
+        // The normal's sign and u's axis are discrete choices: taken with a relative margin so
+        // that a rescaled copy of the mesh, whose fitted normal differs in its last bits, gets
+        // the same frame (else its 2D copy comes out mirrored or rotated, and the optimizer's
+        // result then differs by more than rounding; the plane z = x + y ties on every axis).
         let a = normal.abs();
-        let axis = if a.x <= a.y && a.x <= a.z {
+        let near = |c: f64, m: f64| c <= m * (1.0 + FRAME_TIE);
+        // Sign: the first component within the margin of the largest one is positive.
+        let big = a.max_element();
+        let first_big = normal.to_array().into_iter().find(|c| near(big, c.abs())).unwrap_or(1.0);
+        let normal = if first_big < 0.0 { -normal } else { normal };
+        // u: the coordinate axis most parallel to the plane (the first within the margin of
+        // the smallest component), projected into it.
+        let small = a.min_element();
+        let axis = if near(a.x, small) {
             DVec3::X
-        } else if a.y <= a.z {
+        } else if near(a.y, small) {
             DVec3::Y
         } else {
             DVec3::Z
@@ -172,6 +183,10 @@ fn in_plane_axes(axis: usize) -> (usize, usize) {
 
 /// The unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix (cyclic Jacobi).
 #[allow(clippy::needless_range_loop)] // rows p and q are updated together
+/// Relative margin within which the frame's discrete choices (the normal's sign, u's axis)
+/// count components as equal: far above the fit's rounding, far below any real difference.
+const FRAME_TIE: f64 = 1e-9;
+
 fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _ in 0..64 {
@@ -193,6 +208,7 @@ fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
                 row[p] = c * kp - s * kq;
                 row[q] = s * kp + c * kq;
             }
+            #[allow(clippy::needless_range_loop)] // rows p and q of the same matrix
             for k in 0..3 {
                 let (pk, qk) = (a[p][k], a[q][k]);
                 a[p][k] = c * pk - s * qk;

@@ -42,6 +42,8 @@ pub struct BoundaryGeometry {
     loop_length: Vec<f64>,
     /// Per vertex: its slot if it is a movable boundary vertex, else u32::MAX.
     slot_of: Vec<u32>,
+    /// Per slot: its vertex.
+    slot_vertex: Vec<u32>,
 }
 
 impl BoundaryGeometry {
@@ -54,6 +56,7 @@ impl BoundaryGeometry {
             loop_start: Vec::new(),
             loop_length: Vec::new(),
             slot_of: vec![u32::MAX; topo.vertex_count()],
+            slot_vertex: Vec::new(),
         };
         for (li, lp) in topo.boundary_loops().enumerate() {
             g.loop_start.push(g.origin.len() as u32);
@@ -64,6 +67,7 @@ impl BoundaryGeometry {
                     s += (points[v as usize] - points[lp[k - 1] as usize]).length();
                 }
                 g.origin.push(points[v as usize]);
+                g.slot_vertex.push(v);
                 g.arclength.push(s);
                 g.slot_loop.push(li as u32);
                 if features.is_movable(v as usize) && features.is_boundary(v as usize) {
@@ -135,20 +139,37 @@ impl BoundaryGeometry {
 
     /// Point of loop `l` at arclength `s` (taken modulo the loop length).
     pub fn eval(&self, l: usize, s: f64) -> DVec2 {
+        let (p0, p1, t) = self.segment_at(l, s);
+        let (p0, p1) = (self.origin[p0], self.origin[p1]);
+        if t == 0.0 {
+            return p0;
+        }
+        p0 + (p1 - p0) * t
+    }
+
+    /// The segment of loop `l` holding arclength `s` (modulo the loop length): its two end
+    /// slots and the fraction `t` in [0, 1] of the way from the first to the second
+    /// (0 on a degenerate segment).
+    fn segment_at(&self, l: usize, s: f64) -> (usize, usize, f64) {
         let (a, b) = self.loop_slots(l);
         let len = self.loop_length[l];
         let s = s.rem_euclid(len);
         let cum = &self.arclength[a..b];
         // Last slot whose arclength is <= s.
         let i = cum.partition_point(|&c| c <= s).saturating_sub(1);
-        let p0 = self.origin[a + i];
-        let (p1, end) =
-            if i + 1 < cum.len() { (self.origin[a + i + 1], cum[i + 1]) } else { (self.origin[a], len) };
+        let (next, end) = if i + 1 < cum.len() { (a + i + 1, cum[i + 1]) } else { (a, len) };
         let seg = end - cum[i];
-        if seg <= 0.0 {
-            return p0;
-        }
-        p0 + (p1 - p0) * ((s - cum[i]) / seg).clamp(0.0, 1.0)
+        let t = if seg > 0.0 { ((s - cum[i]) / seg).clamp(0.0, 1.0) } else { 0.0 };
+        (a + i, next, t)
+    }
+
+    /// Where movable boundary vertex `v` (at slot parameters `params`) lies on the boundary,
+    /// as the two vertices of its segment and the fraction of the way from the first to the
+    /// second, so that it can be evaluated on the same polyline in other coordinates.
+    pub fn on_polyline(&self, v: usize, params: &[f64]) -> Option<(usize, usize, f64)> {
+        let slot = self.slot(v)?;
+        let (a, b, t) = self.segment_at(self.slot_loop(slot), params[slot]);
+        Some((self.slot_vertex[a] as usize, self.slot_vertex[b] as usize, t))
     }
 
     /// Arclength of the point nearest `q` on loop `l` within the unwrapped range [lo, hi].

@@ -35,12 +35,14 @@ pub mod untangle;
 use crate::error::{Error, Result};
 use crate::features::Features;
 use crate::mesh::QuadMesh;
+use crate::normalization::Normalization;
 use crate::quality::QualityStats;
 use crate::topology::Topology;
 use boundary::BoundaryGeometry;
 pub use fidelity::BoundaryFidelity;
 use glam::DVec2;
 pub use options::{BoundaryMode, Method, Options, StopRule};
+use rayon::prelude::*;
 pub use report::{MaxMinGain, Progress, Report};
 use std::time::Instant;
 use sweep::RunContext;
@@ -110,34 +112,84 @@ impl Optimizer {
     }
 
     /// [`Optimizer::run`] on the current thread and pool.
+    ///
+    /// The run works on coordinates rounded to a grid ([`Normalization`]), which makes it the
+    /// same for every rescaled copy of a mesh. Fixed and unmoved vertices come back with their
+    /// own coordinates, so a quad the run left within the grid's rounding of degenerate can
+    /// change sign in the output. Then the mesh is run again without the grid (the run of the
+    /// releases before it), so that what the report diagnoses is what the output has.
     fn run_here(
-        &self,
-        mesh: &mut QuadMesh,
-        options: &Options,
-        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
-    ) -> Result<Report> {
-        let frame = crate::normalization::Normalization::new(mesh.points(), mesh.quads());
-        let original = frame.normalize(mesh.points_mut())?;
-        let result = self.run_normalized(mesh, options, progress);
-        frame.restore(mesh.points_mut(), &original);
-        let mut report = result?;
-        if frame.origin() != DVec2::ZERO {
-            // Translating rounded the coordinates: report the quality of the actual ones.
-            report.input = QualityStats::from_values(&crate::quality::quad_values(&original, mesh.quads()));
-            report.output = mesh.quality();
-        }
-        let fidelity = &mut report.fidelity;
-        fidelity.max_deviation = frame.length_to_original(fidelity.max_deviation);
-        fidelity.hausdorff = frame.length_to_original(fidelity.hausdorff);
-        Ok(report)
-    }
-
-    fn run_normalized(
         &self,
         mesh: &mut QuadMesh,
         options: &Options,
         mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
+        let frame = Normalization::new(mesh.points(), mesh.quads());
+        let ask = progress.as_mut().map(|p| &mut **p as &mut dyn FnMut(&Progress) -> bool);
+        let (report, consistent) = self.run_in_frame(&frame, mesh, options, ask)?;
+        if consistent || frame.is_exact() {
+            return Ok(report);
+        }
+        self.run_in_frame(&frame.without_grid(), mesh, options, progress).map(|(report, _)| report)
+    }
+
+    /// One run in `frame`; says whether every quad has the sign class in the output that it
+    /// had at the end of the run on the normalized coordinates. On `false` the mesh is left as
+    /// it was given.
+    fn run_in_frame(
+        &self,
+        frame: &Normalization,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<(Report, bool)> {
+        let (points, quads) = mesh.points_mut_and_quads();
+        let normalized = frame.normalize(points, quads)?;
+        let (result, mut on_boundary) = match self.run_normalized(mesh, options, progress) {
+            Ok((report, on_boundary)) => (Ok(report), on_boundary),
+            Err(e) => (Err(e), Vec::new()),
+        };
+        let classes = if frame.is_exact() { Vec::new() } else { sign_classes(mesh.points(), mesh.quads())? };
+        // Moved boundary vertices lie on the normalized (grid-rounded) polyline: evaluated at
+        // the same place on the original one, they stay on the original boundary exactly.
+        on_boundary.retain(|b| !frame.unmoved(mesh.points()[b.vertex], &normalized, b.vertex));
+        frame.restore(mesh.points_mut(), &normalized);
+        let original = normalized.original();
+        let mut report = result?;
+        for b in on_boundary {
+            let (p0, p1) = (original[b.from], original[b.to]);
+            mesh.points_mut()[b.vertex] = if b.t == 0.0 { p0 } else { p0 + (p1 - p0) * b.t };
+        }
+        if !classes.is_empty() && sign_classes(mesh.points(), mesh.quads())? != classes {
+            mesh.points_mut().copy_from_slice(original);
+            return Ok((report, false));
+        }
+        // Normalizing rounded the coordinates: report the quality of the actual ones.
+        report.input = QualityStats::from_values(&crate::quality::quad_values(original, mesh.quads()));
+        report.output = mesh.quality();
+        // The run never returns worse than its input on the coordinates it saw; on the actual
+        // ones a result that tied the input there can fall short of it by the grid's rounding
+        // (a perfect grid coming back at 1 - 1e-16): the input is then the better result.
+        // (With inverted quads in the input the report's diagnosis describes the output, so
+        // it stays.)
+        if report.input.inverted == 0 && report.input.better_than(&report.output) {
+            mesh.points_mut().copy_from_slice(original);
+            report.output = report.input;
+        }
+        let fidelity = &mut report.fidelity;
+        fidelity.max_deviation = frame.length_to_original(fidelity.max_deviation);
+        fidelity.hausdorff = frame.length_to_original(fidelity.hausdorff);
+        Ok((report, true))
+    }
+
+    /// The run on normalized coordinates; also says where each movable boundary vertex ends
+    /// on the boundary polyline.
+    fn run_normalized(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<(Report, Vec<OnPolyline>)> {
         options.validate()?;
         let topo = &self.topology;
         if mesh.points().len() != topo.vertex_count() {
@@ -181,7 +233,13 @@ impl Optimizer {
         let mean_edge = mean_edge_length(mesh.points(), mesh.quads());
         let fidelity = fidelity::measure(&geometry, &pass.params, mean_edge);
         mesh.points_mut().copy_from_slice(&pass.points);
-        Ok(Report {
+        let on_boundary = (0..topo.vertex_count())
+            .filter_map(|v| {
+                let (from, to, t) = geometry.on_polyline(v, &pass.params)?;
+                Some(OnPolyline { vertex: v, from, to, t })
+            })
+            .collect();
+        let report = Report {
             input,
             output: pass.stats,
             iterations: pass.iterations,
@@ -203,8 +261,30 @@ impl Optimizer {
             } else {
                 untangle::diagnose(mesh.points(), mesh.quads(), topo, &features)
             },
-        })
+        };
+        Ok((report, on_boundary))
     }
+}
+
+/// Where a movable boundary vertex ends on the boundary polyline: the fraction `t` of the way
+/// along the segment from vertex `from` to vertex `to`.
+#[derive(Debug)]
+struct OnPolyline {
+    vertex: usize,
+    from: usize,
+    to: usize,
+    t: f64,
+}
+
+/// Per quad, whether its scaled Jacobian is positive, zero or negative (NaN: none).
+fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::cmp::Ordering>>> {
+    let mut classes = crate::alloc::try_with_capacity(quads.len(), "quad sign classes")?;
+    classes.par_extend(
+        quads
+            .par_iter()
+            .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(points, q)).partial_cmp(&0.0)),
+    );
+    Ok(classes)
 }
 
 /// Mean length of the quad edges (each interior edge counted twice, which does not matter

@@ -264,13 +264,20 @@ impl FixedPart {
 
     /// The quad's scaled Jacobian with its moving corner at `x`, or `None` when it is near
     /// degenerate or inverted (then the caller evaluates it in full).
-    #[inline]
+    #[cfg(test)]
     fn value(&self, x: DVec2) -> Option<f64> {
+        let edges = MovingEdges::new(self.next, self.prev, x);
+        self.value_from(&edges)
+    }
+
+    /// [`FixedPart::value`] from the moving corner's two edges, already computed.
+    #[inline]
+    fn value_from(&self, edges: &MovingEdges) -> Option<f64> {
         if !self.usable {
             return None;
         }
-        let (u, w) = (self.next - x, self.prev - x);
-        let (lu, lw) = (u.length(), w.length());
+        let (u, w) = (edges.to_next, edges.to_prev);
+        let (lu, lw) = (edges.next_squared.sqrt(), edges.prev_squared.sqrt());
         let at_x = u.perp_dot(w) / (lu * lw);
         let at_next = (self.opposite - self.next).perp_dot(-u) / (self.next_len * lu);
         let at_prev = (-w).perp_dot(self.opposite - self.prev) / (lw * self.prev_len);
@@ -326,11 +333,11 @@ impl Star {
         let (mut min, mut sum) = (f64::INFINITY, 0.0);
         let quads = self.quads.iter().zip(&self.valid).zip(&self.fixed_part).zip(&self.shortest_squared);
         for ((((c, k), &valid), part), &shortest) in quads {
-            let (next, prev) = moving_edges(c, *k, at);
-            if next < shortest || prev < shortest {
+            let edges = MovingEdges::new(part.next, part.prev, at);
+            if edges.next_squared < shortest || edges.prev_squared < shortest {
                 return REJECTED;
             }
-            let q = part.value(at).unwrap_or_else(|| {
+            let q = part.value_from(&edges).unwrap_or_else(|| {
                 let mut c = *c;
                 c[*k] = at;
                 scaled_jacobian(&c)
@@ -381,6 +388,28 @@ impl Star {
                 };
                 out.push((value, grad));
             }
+        }
+    }
+}
+
+/// The two edges at a quad's moving corner placed at `x`: to the next corner and to the
+/// previous one, and their squared lengths (shared by the edge floor and the quality).
+struct MovingEdges {
+    to_next: DVec2,
+    to_prev: DVec2,
+    next_squared: f64,
+    prev_squared: f64,
+}
+
+impl MovingEdges {
+    #[inline]
+    fn new(next: DVec2, prev: DVec2, x: DVec2) -> MovingEdges {
+        let (to_next, to_prev) = (next - x, prev - x);
+        MovingEdges {
+            to_next,
+            to_prev,
+            next_squared: to_next.length_squared(),
+            prev_squared: to_prev.length_squared(),
         }
     }
 }

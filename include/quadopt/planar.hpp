@@ -19,6 +19,7 @@
 
 #include "../quadopt.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -65,6 +66,10 @@ namespace planar {
 /// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
 /// used vertices (the command-line tool's PLANARITY_TOLERANCE).
 constexpr double tolerance = 1e-5;
+
+/// Relative margin within which the frame's discrete choices (the normal's sign, u's axis)
+/// count components as equal (the command-line tool's FRAME_TIE).
+constexpr double kFrameTie = 1e-9;
 
 /// Whether two doubles have the same bits.
 inline bool same_bits(double a, double b) noexcept { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -154,10 +159,21 @@ class Frame {
     if (distance > tol) {
       throw NotPlanar(name(worst), std::ldexp(distance, e), std::ldexp(tol, e), library);
     }
-    // u: the coordinate axis most parallel to the plane, projected into it.
+    // The normal's sign and u's axis are discrete choices: taken with a relative margin
+    // (kFrameTie) so that a rescaled copy of the mesh, whose fitted normal differs in its
+    // last bits, gets the same frame; the same rule as quadopt's own (src/io/planar.rs).
     const double a[3] = {std::fabs(normal[0]), std::fabs(normal[1]), std::fabs(normal[2])};
+    const auto near = [](double c, double m) { return c <= m * (1.0 + kFrameTie); };
+    const double big = std::max(std::max(a[0], a[1]), a[2]);
+    const double first_big = near(big, a[0]) ? normal[0] : (near(big, a[1]) ? normal[1] : normal[2]);
+    if (first_big < 0) {
+      for (double& c : normal) c = -c;
+    }
+    // u: the coordinate axis most parallel to the plane (the first within the margin of the
+    // smallest component), projected into it.
+    const double small = std::min(std::min(a[0], a[1]), a[2]);
     double axis[3] = {0, 0, 0};
-    axis[(a[0] <= a[1] && a[0] <= a[2]) ? 0 : (a[1] <= a[2] ? 1 : 2)] = 1;
+    axis[near(a[0], small) ? 0 : (near(a[1], small) ? 1 : 2)] = 1;
     const double along = dot(axis, normal);
     double u[3];
     for (int c = 0; c < 3; ++c) u[c] = axis[c] - along * normal[c];

@@ -69,6 +69,9 @@ pub struct Normalization {
     unit: f64,
     /// Normalized coordinates are multiples of `2^-grid`.
     grid: i32,
+    /// The origin of [`Normalization::without_grid`]: the box's centre rounded towards zero to
+    /// a multiple of a power of two larger than the box (zero when the box contains zero).
+    exact_origin: DVec2,
 }
 
 /// Bits of the shortest edge below which the normalized coordinates are rounded.
@@ -81,8 +84,13 @@ const FINEST_GRID: i32 = 1100;
 
 impl Normalization {
     /// The identity map.
-    pub const IDENTITY: Normalization =
-        Normalization { origin: DVec2::ZERO, exponent: 0, unit: 1.0, grid: FINEST_GRID };
+    pub const IDENTITY: Normalization = Normalization {
+        origin: DVec2::ZERO,
+        exponent: 0,
+        unit: 1.0,
+        grid: FINEST_GRID,
+        exact_origin: DVec2::ZERO,
+    };
 
     /// The normalization of the vertices used by `quads` (finite coordinates): their bounding
     /// box maps onto [-1, 1] in its larger dimension, centred on the origin (into [-3, 3]^2,
@@ -126,21 +134,39 @@ impl Normalization {
             if tiny_edges && near(centre.x) { 0.0 } else { centre.x },
             if tiny_edges && near(centre.y) { 0.0 } else { centre.y },
         );
-        let mut n = Normalization { origin, exponent, unit, grid: FINEST_GRID };
+        // Round the centre towards zero to a multiple of 2^g > the extent: zero when the box
+        // contains the origin, and few significant bits otherwise. Past 2^1023 no translation
+        // is needed (the box is as large as the number range).
+        let g = exponent + 1;
+        let exact_origin = if g > 1023 {
+            DVec2::ZERO
+        } else {
+            let round = |c: f64| {
+                let units = scale_by_power_of_two(c, -g);
+                // |units| >= 2^52: c is already a multiple of 2^g.
+                if units.abs() >= pow2(52) { c } else { scale_by_power_of_two(units.trunc(), g) }
+            };
+            DVec2::new(round(centre.x), round(centre.y))
+        };
+        let mut n = Normalization { origin, exponent, unit, grid: FINEST_GRID, exact_origin };
         if shortest > 0.0 && shortest.is_finite() {
             n.grid = (GRID_BITS - binary_exponent(shortest)).min(FINEST_GRID);
         }
         n
     }
 
-    /// This map without the grid: the coordinates only centred and scaled.
+    /// The exact map of the same mesh, without the grid: a scaling by a power of two (exact)
+    /// after subtracting a rounded origin (zero when the box contains zero, then the
+    /// normalized coordinates are the mesh's own, exactly scaled). What the optimizer sees is
+    /// then what the caller gets, to the bit, but rescaled copies of a mesh no longer run alike.
     pub fn without_grid(&self) -> Normalization {
-        Normalization { grid: FINEST_GRID, ..*self }
+        Normalization { origin: self.exact_origin, unit: 1.0, grid: FINEST_GRID, ..*self }
     }
 
-    /// Whether the map rounds nothing (the identity, or no grid).
+    /// Whether the map is exact: no grid and a scaling by a power of two only (the identity, or
+    /// [`Normalization::without_grid`]).
     pub fn is_exact(&self) -> bool {
-        self.grid == FINEST_GRID
+        self.grid == FINEST_GRID && self.unit == 1.0
     }
 
     /// The centre subtracted before scaling.

@@ -133,9 +133,10 @@ impl Optimizer {
         self.run_in_frame(&frame.without_grid(), mesh, options, progress).map(|(report, _)| report)
     }
 
-    /// One run in `frame`; says whether every quad has the sign class in the output that it
-    /// had at the end of the run on the normalized coordinates. On `false` the mesh is left as
-    /// it was given.
+    /// One run in `frame`; says whether the result holds on the actual coordinates: every
+    /// quad has the sign class in the output that it had at the end of the run on the
+    /// normalized ones, and a tangled input is not returned worse than it came. On `false`
+    /// the mesh is left as it was given.
     fn run_in_frame(
         &self,
         frame: &Normalization,
@@ -169,11 +170,16 @@ impl Optimizer {
         report.output = mesh.quality();
         // The run never returns worse than its input on the coordinates it saw; on the actual
         // ones a result that tied the input there can fall short of it by the grid's rounding
-        // (a perfect grid coming back at 1 - 1e-16): the input is then the better result.
-        // (With inverted quads in the input the report's diagnosis describes the output, so
-        // it stays.)
-        if report.input.inverted == 0 && report.input.better_than(&report.output) {
+        // (a perfect grid coming back at 1 - 1e-16, a tangled mesh's worst quad 1 ulp worse):
+        // the input is then the better result. With inverted quads in the input the report's
+        // diagnosis describes the output, so the exact run decides instead.
+        let (input, output) = (&report.input, &report.output);
+        let lost = output.inverted > input.inverted || output.min < input.min;
+        if !frame.is_exact() && (lost || input.better_than(output)) {
             mesh.points_mut().copy_from_slice(original);
+            if report.input.inverted > 0 {
+                return Ok((report, false));
+            }
             report.output = report.input;
         }
         let fidelity = &mut report.fidelity;

@@ -201,6 +201,11 @@ impl RunContext<'_> {
 
     /// The max-min stage on the kept pass: its result replaces the pass's when the ranking
     /// takes it (the stage never lowers the minimum, but may trade average for it).
+    ///
+    /// When the average falls too far, the stage is tried once more without its escapes (the
+    /// average moves that unlock a stalled minimum are what costs the average): on Mesquite's
+    /// unstrquad the full stage's result is rejected and the pass keeps 0.570, the stage
+    /// without escapes is taken at 0.701.
     pub fn max_min_stage(
         &self,
         pass: &mut Pass,
@@ -210,6 +215,36 @@ impl RunContext<'_> {
             max_boundary_deviation: self.options.max_boundary_deviation,
             ..MaxMinSettings::default()
         };
+        let tries = if settings.escapes > 0 {
+            vec![settings.clone(), MaxMinSettings { escapes: 0, ..settings }]
+        } else {
+            vec![settings]
+        };
+        let (mut rounds, mut seconds) = (0, 0.0);
+        for settings in &tries {
+            let (points, params, after, report, keep) = self.max_min_attempt(pass, settings, progress);
+            rounds += report.rounds;
+            seconds += report.seconds;
+            if keep {
+                let gain = MaxMinGain { before: pass.stats, after, rounds, seconds };
+                (pass.points, pass.params, pass.stats) = (points, params, after);
+                return Some(gain);
+            }
+            if pass.cancelled || report.cancelled {
+                break;
+            }
+        }
+        None
+    }
+
+    /// One run of the max-min stage from the kept pass with `settings`: its positions,
+    /// parameters, quality, report, and whether the pass takes it.
+    fn max_min_attempt(
+        &self,
+        pass: &mut Pass,
+        settings: &MaxMinSettings,
+        progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> (Vec<DVec2>, Vec<f64>, QualityStats, maxmin::MaxMinReport, bool) {
         let (mut points, mut params) = (pass.points.clone(), pass.params.clone());
         let sweeps = pass.iterations;
         let max_iterations = self.options.max_iterations;
@@ -235,7 +270,7 @@ impl RunContext<'_> {
             self.topo,
             self.features,
             self.geometry,
-            &settings,
+            settings,
             Some(&mut on_round),
         );
         let mut values = Vec::with_capacity(self.quads.len());
@@ -248,12 +283,7 @@ impl RunContext<'_> {
             && after.avg >= pass.stats.avg - MIN_TIE
             && (after == pass.stats || min_rose || improves(&after, &pass.stats, &self.input));
         pass.cancelled |= cancelled;
-        if !keep {
-            return None;
-        }
-        let gain = MaxMinGain { before: pass.stats, after, rounds: report.rounds, seconds: report.seconds };
-        (pass.points, pass.params, pass.stats) = (points, params, after);
-        Some(gain)
+        (points, params, after, report, keep)
     }
 
     /// Collective energy of the movable interior vertices at `points` (boundary vertices

@@ -279,7 +279,7 @@ fn the_default_never_ends_below_the_recorded_floor() {
 #[test]
 fn a_rejected_stage_is_retried_without_its_escapes() {
     let Some(dir) = mesquite() else { return };
-    let data = io::read_mesh(&dir.join("untangled/unstrquad.vtk")).unwrap();
+    let data = io::read_mesh(dir.join("untangled/unstrquad.vtk")).unwrap();
     let mut mesh = PlanarMesh::new(&data).unwrap().mesh;
     let report = quadopt::optimize(&mut mesh, &Options::default()).unwrap();
     let stage = report.max_min.expect("the stage's result is taken");

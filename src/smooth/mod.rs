@@ -150,20 +150,33 @@ impl Optimizer {
             Ok((report, on_boundary)) => (Ok(report), on_boundary),
             Err(e) => (Err(e), Vec::new()),
         };
-        let classes = if frame.is_exact() { Vec::new() } else { sign_classes(mesh.points(), mesh.quads())? };
+        let classes =
+            if frame.is_exact() { Ok(Vec::new()) } else { sign_classes(mesh.points(), mesh.quads()) };
         // Moved boundary vertices lie on the normalized (grid-rounded) polyline: evaluated at
         // the same place on the original one, they stay on the original boundary exactly.
         on_boundary.retain(|b| !frame.unmoved(mesh.points()[b.vertex], &normalized, b.vertex));
         frame.restore(mesh.points_mut(), &normalized);
         let original = normalized.original();
-        let mut report = result?;
+        // On an error the mesh goes back as it was given.
+        let (mut report, classes) = match (result, classes) {
+            (Ok(report), Ok(classes)) => (report, classes),
+            (Err(e), _) | (_, Err(e)) => {
+                mesh.points_mut().copy_from_slice(original);
+                return Err(e);
+            }
+        };
         for b in on_boundary {
             let (p0, p1) = (original[b.from], original[b.to]);
             mesh.points_mut()[b.vertex] = if b.t == 0.0 { p0 } else { p0 + (p1 - p0) * b.t };
         }
-        if !classes.is_empty() && sign_classes(mesh.points(), mesh.quads())? != classes {
-            mesh.points_mut().copy_from_slice(original);
-            return Ok((report, false));
+        if !classes.is_empty() {
+            match sign_classes(mesh.points(), mesh.quads()) {
+                Ok(now) if now == classes => {}
+                disagree_or_error => {
+                    mesh.points_mut().copy_from_slice(original);
+                    return disagree_or_error.map(|_| (report, false));
+                }
+            }
         }
         // Normalizing rounded the coordinates: report the quality of the actual ones.
         report.input = QualityStats::from_values(&crate::quality::quad_values(original, mesh.quads()));
@@ -239,12 +252,11 @@ impl Optimizer {
         let mean_edge = mean_edge_length(mesh.points(), mesh.quads());
         let fidelity = fidelity::measure(&geometry, &pass.params, mean_edge);
         mesh.points_mut().copy_from_slice(&pass.points);
-        let on_boundary = (0..topo.vertex_count())
-            .filter_map(|v| {
-                let (from, to, t) = geometry.on_polyline(v, &pass.params)?;
-                Some(OnPolyline { vertex: v, from, to, t })
-            })
-            .collect();
+        let mut on_boundary = crate::alloc::try_with_capacity(pass.params.len(), "boundary positions")?;
+        on_boundary.extend((0..topo.vertex_count()).filter_map(|v| {
+            let (from, to, t) = geometry.on_polyline(v, &pass.params)?;
+            Some(OnPolyline { vertex: v, from, to, t })
+        }));
         let report = Report {
             input,
             output: pass.stats,

@@ -1,14 +1,15 @@
 //! Coordinate normalization: the optimizer works on coordinates centred on the mesh's bounding
-//! box and divided by its larger half-extent, rounded to a grid, so that no result depends on the units or the position the mesh is given in and
-//! nothing overflows or underflows at any finite scale.
+//! box, divided by its larger half-extent and rounded to a grid, so that no result depends on
+//! the units or the position the mesh is given in and nothing overflows or underflows at any
+//! finite scale.
 //!
-//! - Scale first by a power of two (exact, and safe over the whole number range), then divide
-//!   by the remaining half-extent in [0.5, 1), after subtracting the box's centre: the box maps
-//!   onto [-1, 1] in its larger dimension. (A mesh with edges below 2^-20 of its size keeps,
-//!   per axis, a zero origin when its box lies near zero, so its small part keeps the
-//!   precision it has there; the box then maps into [-3, 3]^2.) A mesh
-//!   scaled by any factor `s` (or translated) maps to the same coordinates up to a few units
-//!   in the last place, the rounding of the input itself.
+//! - Subtract the box's centre, scale by a power of two (exact, and safe over the whole number
+//!   range), then divide by the remaining half-extent in [0.5, 1): the box maps onto [-1, 1]
+//!   in its larger dimension. (A mesh with edges below 2^-20 of its size keeps, per axis, a
+//!   zero origin when its box lies near zero, so its small part keeps the precision it has
+//!   there; the box then maps into [-3, 3]^2.) A mesh scaled by any factor `s` (or
+//!   translated) maps to the same coordinates up to a few units in the last place, the
+//!   rounding of the input itself.
 //! - Those last-place differences would be enough to send the optimizer's discrete choices
 //!   (the guard, the best iterate, the max-min stage's greedy moves) down another path, so the
 //!   normalized coordinates are rounded to a grid of `2^-20` of the shortest edge (a power of
@@ -26,7 +27,7 @@
 
 use crate::alloc::try_copy;
 use crate::error::Result;
-use crate::quality::{corners, scaled_jacobian};
+use crate::quality::{corners, sign_class};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -252,7 +253,6 @@ impl Normalization {
         for p in points.iter_mut() {
             *p = self.to_normalized(*p);
         }
-        let class = |c: [DVec2; 4]| scaled_jacobian(&c).partial_cmp(&0.0);
         let at = |v: u32| original.get(v as usize).map_or(DVec2::ZERO, |&o| self.off_grid(o));
         for _ in 0..MAX_SIGN_PASSES {
             let points_now: &[DVec2] = points;
@@ -260,7 +260,7 @@ impl Normalization {
                 .par_iter()
                 .filter(|q| {
                     q.iter().all(|&v| (v as usize) < points_now.len())
-                        && class(corners(points_now, q)) != class(q.map(at))
+                        && sign_class(&corners(points_now, q)) != sign_class(&q.map(at))
                 })
                 .flat_map_iter(|q| q.iter().copied())
                 .collect();
@@ -525,15 +525,14 @@ mod tests {
         let p =
             [(0., 0.), (1., -1e-9), (2., 0.), (1., 1.), (3., 0.), (3., 1.)].map(|(x, y)| DVec2::new(x, y));
         let q = [[0, 1, 2, 3], [2, 4, 5, 3]];
-        let before: Vec<_> = q.iter().map(|q| scaled_jacobian(&corners(&p, q)).partial_cmp(&0.0)).collect();
+        let before: Vec<_> = q.iter().map(|q| sign_class(&corners(&p, q))).collect();
         let n = Normalization::new(&p, &q);
         let rounded: Vec<DVec2> = p.iter().map(|&x| n.to_normalized(x)).collect();
-        let naive: Vec<_> =
-            q.iter().map(|q| scaled_jacobian(&corners(&rounded, q)).partial_cmp(&0.0)).collect();
+        let naive: Vec<_> = q.iter().map(|q| sign_class(&corners(&rounded, q))).collect();
         assert_ne!(naive, before, "the test needs a quad whose sign the plain rounding changes");
         let mut work = p.to_vec();
         let normalized = n.normalize(&mut work, &q).unwrap();
-        let after: Vec<_> = q.iter().map(|q| scaled_jacobian(&corners(&work, q)).partial_cmp(&0.0)).collect();
+        let after: Vec<_> = q.iter().map(|q| sign_class(&corners(&work, q))).collect();
         assert_eq!(after, before);
         assert!(normalized.unrounded_count() > 0 && normalized.unrounded_count() < p.len());
         // Unmoved, every vertex comes back bit-identical, rounded or not.

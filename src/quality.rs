@@ -187,6 +187,13 @@ impl QualityStats {
     }
 }
 
+/// Whether a quad with corners `c` is valid, degenerate or inverted: its scaled Jacobian
+/// against zero (`None` for NaN).
+#[inline]
+pub fn sign_class(c: &[DVec2; 4]) -> Option<std::cmp::Ordering> {
+    scaled_jacobian(c).partial_cmp(&0.0)
+}
+
 /// Per-quad scaled Jacobians of `quads` (counter-clockwise, indices into `points`).
 pub fn quad_values(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
     quads.iter().map(|q| scaled_jacobian(&corners(points, q))).collect()

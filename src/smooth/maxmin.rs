@@ -308,15 +308,16 @@ impl Star {
             })
             .collect();
         let valid = quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect();
-        let fixed_part = quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect();
+        let fixed_part: Vec<FixedPart> = quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect();
         // Never above the current lengths, so that staying put is always allowed.
         let shortest_squared = topo
             .vertex_quads(v)
             .iter()
             .zip(&quads)
-            .map(|(&qi, (c, k))| {
-                let (next, prev) = moving_edges(c, *k, c[*k]);
-                edge_floors.get(qi as usize).map_or(0.0, |&f| f.min(next).min(prev))
+            .zip(&fixed_part)
+            .map(|((&qi, (c, k)), part)| {
+                let now = MovingEdges::new(part.next, part.prev, c[*k]);
+                edge_floors.get(qi as usize).map_or(0.0, |&f| f.min(now.next_squared).min(now.prev_squared))
             })
             .collect();
         Star { quads, valid, fixed_part, shortest_squared }
@@ -412,13 +413,6 @@ impl MovingEdges {
             prev_squared: to_prev.length_squared(),
         }
     }
-}
-
-/// Squared lengths of the two edges at corner `k` of quad `c` with that corner at `at`: to the
-/// next corner and to the previous one.
-#[inline]
-fn moving_edges(c: &[DVec2; 4], k: usize, at: DVec2) -> (f64, f64) {
-    ((c[(k + 1) % 4] - at).length_squared(), (c[(k + 3) % 4] - at).length_squared())
 }
 
 /// Candidate positions seen by a local search, and the choice among them.

@@ -298,9 +298,7 @@ struct OnPolyline {
 fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::cmp::Ordering>>> {
     let mut classes = crate::alloc::try_with_capacity(quads.len(), "quad sign classes")?;
     classes.par_extend(
-        quads
-            .par_iter()
-            .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(points, q)).partial_cmp(&0.0)),
+        quads.par_iter().map(|q| crate::quality::sign_class(&crate::quality::corners(points, q))),
     );
     Ok(classes)
 }

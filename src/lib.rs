@@ -41,6 +41,7 @@ pub mod normalization;
 #[allow(unsafe_code)]
 mod pool;
 pub mod quality;
+mod renumbering;
 pub mod smooth;
 pub mod synthetic;
 #[cfg(test)]

@@ -126,6 +126,35 @@ impl QuadMesh {
         self.clockwise.iter().any(|&c| c)
     }
 
+    /// The same mesh numbered differently: its vertex `i` is this mesh's `vertex_of[i]`, its
+    /// quad `k` this mesh's `quad_of[k]` (both permutations), each quad with its corners in
+    /// the same order.
+    pub(crate) fn renumbered(&self, vertex_of: &[u32], quad_of: &[u32]) -> Result<QuadMesh> {
+        let n = self.points.len();
+        debug_assert!(vertex_of.len() == n && quad_of.len() == self.quads.len());
+        let mut internal = try_filled(n, 0u32, "vertex order")?;
+        for (i, &v) in vertex_of.iter().enumerate() {
+            internal[v as usize] = i as u32;
+        }
+        let mut points = try_with_capacity(n, "vertex coordinates")?;
+        points.extend(vertex_of.iter().map(|&v| self.points[v as usize]));
+        let mut fixed = try_with_capacity(n, "fixed flags")?;
+        fixed.extend(vertex_of.iter().map(|&v| self.fixed[v as usize]));
+        let mut quads = try_with_capacity(self.quads.len(), "quads")?;
+        quads.extend(quad_of.iter().map(|&k| self.quads[k as usize].map(|v| internal[v as usize])));
+        let mut clockwise = try_with_capacity(self.clockwise.len(), "quad orientations")?;
+        if !self.clockwise.is_empty() {
+            clockwise.extend(quad_of.iter().map(|&k| self.clockwise[k as usize]));
+        }
+        let mut reoriented = Vec::new();
+        for (k, &q) in quad_of.iter().enumerate() {
+            if self.reoriented.binary_search(&q).is_ok() {
+                try_push(&mut reoriented, k as u32, "reoriented quads")?;
+            }
+        }
+        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise, boundary_edges: self.boundary_edges })
+    }
+
     /// Replaces the vertex positions (same count, all finite).
     pub fn set_points(&mut self, points: &[DVec2]) -> Result<()> {
         if points.len() != self.points.len() {

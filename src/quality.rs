@@ -67,6 +67,83 @@ pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
     scaled_jacobian_in_range(&q.map(|p| scale_point(p, e)))
 }
 
+/// Whether `scaled_jacobian(q) < floor`, the same answer bit for bit, mostly without the
+/// square roots and divisions: the guard of every sweep asks this of every star it tries.
+///
+/// Each corner is decided from squared quantities, `cross^2` against `floor^2 |a|^2 |b|^2`
+/// (its two edges `a`, `b`), when they differ by more than a relative margin of 1e-9: the
+/// rounding of either computation is below 1e-15 relative, so outside the margin both sides
+/// of `scaled_jacobian`'s own comparison are known. A corner inside the margin, a short edge
+/// (near Verdict's cut-off), a collapsed quad, extreme coordinates or a floor outside
+/// [2^-60, 1] fall back to `scaled_jacobian` itself.
+///
+/// ```
+/// use glam::DVec2;
+/// let skewed = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.5, 1.0), DVec2::new(0.5, 1.0)];
+/// let sj = quadopt::quality::scaled_jacobian(&skewed);
+/// assert!(quadopt::quality::scaled_jacobian_below(&skewed, sj + 1e-12));
+/// assert!(!quadopt::quality::scaled_jacobian_below(&skewed, sj));
+/// ```
+#[inline]
+pub fn scaled_jacobian_below(q: &[DVec2; 4], floor: f64) -> bool {
+    match below_from_squares(q, floor) {
+        Some(below) => below,
+        None => scaled_jacobian(q) < floor,
+    }
+}
+
+/// Relative margin of [`below_from_squares`]'s comparisons: far above their rounding
+/// (a few ulps, 1e-15) and far below any difference that matters.
+const SQUARES_MARGIN: f64 = 1e-9;
+
+/// Floors below 2^-60 (and above 1) are left to [`scaled_jacobian`]: with squared edges in
+/// [2^-240, 2^240] every product below then stays a normal number.
+const SQUARES_FLOOR_LOW: f64 = f64::from_bits((1023 - 60) << 52);
+const SQUARES_EDGE_LOW: f64 = f64::from_bits((1023 - 240) << 52);
+const SQUARES_EDGE_HIGH: f64 = f64::from_bits((1023 + 240) << 52);
+
+/// [`scaled_jacobian_below`]'s decision from squared quantities, or `None` when it is not
+/// certain. Mirrors [`scaled_jacobian_in_range`]: for a floor in (0, 1] the clamp does not
+/// change the comparison, a quad with no short edge is not degenerate, and a corner with
+/// `cross <= 0` is below any positive floor.
+#[inline]
+fn below_from_squares(q: &[DVec2; 4], floor: f64) -> Option<bool> {
+    if !(SQUARES_FLOOR_LOW..=1.0).contains(&floor) || q[3] == q[2] || !in_exact_range(q) {
+        return None;
+    }
+    let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
+    let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
+    let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
+    let s = [e[0].length_squared(), e[1].length_squared(), e[2].length_squared(), e[3].length_squared()];
+    let shortest = s[0].min(s[1]).min(s[2]).min(s[3]);
+    let longest = s[0].max(s[1]).max(s[2]).max(s[3]);
+    // The same bound as scaled_jacobian_in_range's: every edge clearly at least this long is
+    // not short there.
+    let d = hi - lo;
+    let clearly_long = DEGENERATE_EDGE_RELATIVE * (d.x + d.y) * (1.0 + 4.0 * f64::EPSILON);
+    if !(shortest >= SQUARES_EDGE_LOW
+        && longest <= SQUARES_EDGE_HIGH
+        && shortest >= clearly_long * clearly_long * (1.0 + SQUARES_MARGIN))
+    {
+        return None;
+    }
+    let floor2 = floor * floor;
+    let mut certain = true;
+    for i in 0..4 {
+        let j = (i + 3) % 4;
+        let cross = e[j].perp_dot(e[i]);
+        if cross <= 0.0 {
+            return Some(true);
+        }
+        let (x, y) = (cross * cross, floor2 * s[i] * s[j]);
+        if x <= y * (1.0 - SQUARES_MARGIN) {
+            return Some(true);
+        }
+        certain &= x >= y * (1.0 + SQUARES_MARGIN);
+    }
+    certain.then_some(false)
+}
+
 /// Bounds of [`in_exact_range`]: 2^250 and 2^-250.
 const RANGE_HIGH: f64 = f64::from_bits((1023 + 250) << 52);
 const RANGE_LOW: f64 = f64::from_bits((1023 - 250) << 52);
@@ -343,5 +420,50 @@ mod tests {
         let t = QualityStats::from_values(&[0.1, 0.2]);
         assert!(t.better_than(&s));
         assert!(!s.better_than(&t));
+    }
+
+    #[test]
+    fn below_decides_as_the_scaled_jacobian_does_and_mostly_without_it() {
+        // Random quads (convex, folded, nearly degenerate, collapsed, extreme scales) against
+        // floors across the range, most of them within a few ulps of the quad's own value: the
+        // answer is always `scaled_jacobian(q) < floor`.
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = || 0.5 * rnd();
+        let (mut decided, mut far, mut total, mut below) = (0, 0, 0, 0);
+        for k in 0..400_000 {
+            let scale = if k % 5 == 0 { 2f64.powf(600.0 * next()) } else { 1.0 + next() };
+            let spread = match k % 11 {
+                0 => 1e-14,
+                1 => 2.0,
+                _ => 0.3,
+            };
+            let mut q =
+                [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)]
+                    .map(|p| (p + spread * DVec2::new(next(), next())) * scale);
+            if k % 97 == 0 {
+                q[3] = q[2];
+            }
+            let sj = scaled_jacobian(&q);
+            let floor = match k % 6 {
+                0 => next() + 0.5,
+                1 => sj,
+                2 => f64::from_bits(sj.to_bits().wrapping_add((k % 9) as u64).wrapping_sub(4)),
+                3 => sj * (1.0 + 1e-10 * next()),
+                4 => [f64::NAN, 0.0, -0.5, 1.0, 1.5, 1e-30, f64::INFINITY][k / 6 % 7],
+                _ => 0.05,
+            };
+            let want = sj < floor;
+            assert_eq!(scaled_jacobian_below(&q, floor), want, "{q:?} {floor} {sj}");
+            total += 1;
+            below += usize::from(want);
+            if k % 6 == 0 || k % 6 == 5 {
+                far += 1;
+                decided += usize::from(super::below_from_squares(&q, floor).is_some());
+            }
+        }
+        // A floor not within rounding of the quad's value is decided without the scaled
+        // Jacobian (but for the collapsed, nearly degenerate and extreme quads).
+        assert!(decided * 10 > far * 7, "{decided} of {far}");
+        assert!(below > total / 5 && below < total * 4 / 5, "{below} of {total}");
     }
 }

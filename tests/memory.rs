@@ -27,7 +27,7 @@ fn tangled_fan(n: u32) -> QuadMesh {
 }
 
 /// (name, mesh): a plain grid, a tangled one, one with many holes, a strip whose every vertex
-/// is on the boundary, a tangled fan and a tiny grid.
+/// is on the boundary, a tangled fan, a tiny grid and one large enough to be renumbered.
 fn meshes() -> Vec<(&'static str, QuadMesh)> {
     let s = Synthetic { nx: 80, ny: 80, ..Synthetic::default() };
     vec![
@@ -37,6 +37,8 @@ fn meshes() -> Vec<(&'static str, QuadMesh)> {
         ("strip", Synthetic { nx: 3000, ny: 1, holes: 0, jitter: 0.0, ..s }.generate()),
         ("fan", tangled_fan(2000)),
         ("small", Synthetic { nx: 3, ny: 3, holes: 0, ..s }.generate()),
+        // Above 16,384 vertices the optimizer works on a renumbered copy.
+        ("renumbered", Synthetic { nx: 150, ny: 150, ..s }.generate()),
     ]
 }
 

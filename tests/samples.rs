@@ -143,7 +143,8 @@ fn every_method_and_mode_preserves_the_samples_and_improves_them() {
         let (name, mesh, _) = load(path);
         let start = std::time::Instant::now();
         let optimizer = Optimizer::new(&mesh);
-        let topo = optimizer.topology();
+        let topology = Topology::new(&mesh);
+        let topo = &topology;
         let input = mesh.quality();
         let mut default_out = None;
         let mut laplace_out = None;
@@ -319,7 +320,8 @@ fn jittered_samples_are_untangled_and_beat_the_plain_method() {
         let fixed_boundary = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
         optimizer.run(&mut base, &fixed_boundary, None).unwrap();
         assert_eq!(base.quality().inverted, 0, "{name}: the fixed-boundary base is not valid");
-        let input = jittered(&base, optimizer.topology(), 0.9, 7);
+        let topology = Topology::new(&base);
+        let input = jittered(&base, &topology, 0.9, 7);
         let q = input.quality();
         assert!(q.inverted > 0, "{name}: the jitter folded nothing ({q:?})");
         let run = |options: &Options| {
@@ -329,7 +331,7 @@ fn jittered_samples_are_untangled_and_beat_the_plain_method() {
         };
         let default = run(&Options::default());
         let d = default.quality();
-        for f in preservation_failures(&input, &default, optimizer.topology(), &Options::default()) {
+        for f in preservation_failures(&input, &default, &topology, &Options::default()) {
             failures.push(format!("{name} (jittered): {f}"));
         }
         if d.inverted > 0 {

@@ -24,7 +24,7 @@ mod common;
 use common::Rng;
 use quadopt::ffi::{QuadoptQuality, QuadoptStatus, quadopt_quality};
 use quadopt::normalization::scale_by_power_of_two;
-use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report};
+use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report, Topology};
 
 /// Factors that are not powers of two, over the whole range asked for.
 const FACTORS: [f64; 14] =
@@ -252,7 +252,7 @@ fn optimized_with(
     let input = mesh.clone();
     let optimizer = Optimizer::new(&mesh);
     let report = optimizer.run(&mut mesh, options, None).unwrap();
-    let loops = optimizer.topology().boundary_loops().map(|l| l.to_vec()).collect();
+    let loops = Topology::new(&input).boundary_loops().map(|l| l.to_vec()).collect();
     (mesh.points().to_vec(), report, loops, input)
 }
 

@@ -5,7 +5,7 @@
 //! anisotropic meshes it can lower the minimum quality or create inversions (DESIGN.md
 //! section 5). Vertices in a tangled star are not guarded, so untangling is never blocked.
 
-use crate::quality::{corners, scaled_jacobian};
+use crate::quality::{corners, scaled_jacobian, scaled_jacobian_below};
 use crate::topology::Topology;
 use glam::DVec2;
 
@@ -47,7 +47,8 @@ pub fn star_at_least(
     at: DVec2,
     floor: f64,
 ) -> bool {
-    !star_quads(points, quads, topo, v, at).any(|c| scaled_jacobian(&c) < floor) && f64::INFINITY >= floor
+    !star_quads(points, quads, topo, v, at).any(|c| scaled_jacobian_below(&c, floor))
+        && f64::INFINITY >= floor
 }
 
 /// Minimum and average scaled Jacobian of the quads around `v` with `v` placed at `at`.

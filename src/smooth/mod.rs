@@ -37,6 +37,7 @@ use crate::features::Features;
 use crate::mesh::QuadMesh;
 use crate::normalization::Normalization;
 use crate::quality::QualityStats;
+use crate::renumbering::Renumbering;
 use crate::topology::Topology;
 use boundary::BoundaryGeometry;
 pub use fidelity::BoundaryFidelity;
@@ -55,20 +56,26 @@ pub fn optimize(mesh: &mut QuadMesh, options: &Options) -> Result<Report> {
 }
 
 /// A reusable optimizer: the topology of one connectivity, built once.
+///
+/// A large mesh is worked on in an order of its own, chosen for memory locality
+/// (along a Hilbert curve); results come back in the caller's numbering.
 #[derive(Clone, Debug)]
 pub struct Optimizer {
+    /// The topology, in the internal numbering when there is one.
     topology: Topology,
+    renumbering: Option<Renumbering>,
 }
 
 impl Optimizer {
     /// Builds the topology of `mesh`.
     pub fn new(mesh: &QuadMesh) -> Optimizer {
-        Optimizer { topology: Topology::new(mesh) }
-    }
-
-    /// The topology this optimizer works on.
-    pub fn topology(&self) -> &Topology {
-        &self.topology
+        // The order is only for speed: without the memory for it the mesh keeps its own.
+        if let Ok(Some(renumbering)) = Renumbering::new(mesh) {
+            if let Ok(internal) = renumbering.internal(mesh) {
+                return Optimizer { topology: Topology::new(&internal), renumbering: Some(renumbering) };
+            }
+        }
+        Optimizer { topology: Topology::new(mesh), renumbering: None }
     }
 
     /// Optimizes `mesh` (which must have the connectivity this optimizer was built for). The
@@ -87,6 +94,36 @@ impl Optimizer {
     /// (its pool is rebuilt there). The result is the same on any number of threads. When no
     /// worker thread can start at all, the run fails with [`Error::NoThreads`].
     pub fn run(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<Report> {
+        if let Some(renumbering) = &self.renumbering {
+            if mesh.points().len() != self.topology.vertex_count() {
+                return Err(Error::VertexCountMismatch {
+                    expected: self.topology.vertex_count(),
+                    got: mesh.points().len(),
+                });
+            }
+            // On an error the caller's mesh is left as it was: only the copy has moved.
+            let mut internal = renumbering.internal(mesh)?;
+            let mut report = self.run_on_pool(&mut internal, options, progress)?;
+            // The statistics as the caller's order sums them (the average differs in its
+            // last bits), so that they are the quality of the mesh given and returned.
+            report.input = mesh.quality();
+            renumbering.write_back(&internal, mesh);
+            report.output = mesh.quality();
+            for t in &mut report.tangled {
+                t.quad = renumbering.quad(t.quad);
+            }
+            return Ok(report);
+        }
+        self.run_on_pool(mesh, options, progress)
+    }
+
+    /// [`Optimizer::run`] on a mesh in the internal numbering.
+    fn run_on_pool(
         &self,
         mesh: &mut QuadMesh,
         options: &Options,

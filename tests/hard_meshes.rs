@@ -90,7 +90,9 @@ fn default_options_untangle_and_never_lose_quality_on_hard_meshes() {
         assert!(r.output.min >= r.input.min, "{name}: min fell from {} to {}", r.input.min, r.output.min);
         assert!(r.output.avg > r.input.avg, "{name}: average did not improve");
         check_preserved(name, mesh, &out, &options);
-        if r.output.min >= plain.min - 1e-9 && r.output.avg >= plain.avg - 1e-3 {
+        // The default stops once less than StopRule::QUALITY_LEAST_LEFT (5e-4) is left to
+        // gain, where the plain method's energy rule converges near a perfect mesh to 1e-4.
+        if r.output.min >= plain.min - 1e-3 && r.output.avg >= plain.avg - 1e-3 {
             at_least_as_good += 1;
         }
     }

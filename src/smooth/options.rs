@@ -136,8 +136,11 @@ impl StopRule {
     /// Near a perfect mesh, the gains still to come must also be below this fraction of the
     /// gap to 1 (of the minimum, of the average).
     pub const QUALITY_GAP_FRACTION: f64 = 0.1;
-    /// The smallest gain still to come that the quality rule waits for.
-    pub const QUALITY_LEAST_LEFT: f64 = 1e-4;
+    /// The smallest gain still to come that the quality rule waits for. Measured: on a
+    /// synthetic 1M-quad jittered grid, 1e-4 took 85 sweeps (26.6 s) to a minimum of 0.99985,
+    /// 5e-4 takes 35 (10.9 s) to 0.99943 (average 0.999996 -> 0.999976); every sample and
+    /// Mesquite mesh ends the same but three near-perfect ones, 1e-4 lower in minimum.
+    pub const QUALITY_LEAST_LEFT: f64 = 5e-4;
     /// Windows without a change of the kept iterate after which the quality rule stops.
     pub const QUALITY_STALE_WINDOWS: usize = 4;
 

@@ -97,7 +97,8 @@ impl QualityTrend {
         let [c0, c1, c2] = [self.checkpoints[n - 3], self.checkpoints[n - 2], self.checkpoints[n - 1]];
         let repaired = c2.inverted < c1.inverted;
         // Near a perfect mesh the thresholds shrink with the gap left to 1, so the sweeps
-        // converge there (cheaply: the gains shrink fast) instead of stopping 5e-3 short.
+        // converge there (cheaply: the gains shrink fast) to within QUALITY_LEAST_LEFT instead
+        // of stopping 5e-3 short.
         let left = |gap: f64, most: f64| {
             most.min(StopRule::QUALITY_GAP_FRACTION * gap).max(StopRule::QUALITY_LEAST_LEFT)
         };

@@ -36,6 +36,10 @@ pub enum Error {
     /// The coordinate array does not match the mesh it is applied to.
     #[error("{got} vertices were given, but the mesh has {expected}")]
     VertexCountMismatch { expected: usize, got: usize },
+    /// The mesh given to an optimizer has another number of quads than the one it was built
+    /// for.
+    #[error("{got} quads were given, but the optimizer was built for {expected}")]
+    QuadCountMismatch { expected: usize, got: usize },
     /// An option is out of its valid range.
     #[error("invalid option {name}: {reason}")]
     InvalidOption { name: &'static str, reason: String },

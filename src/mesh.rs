@@ -131,7 +131,12 @@ impl QuadMesh {
     /// the same order.
     pub(crate) fn renumbered(&self, vertex_of: &[u32], quad_of: &[u32]) -> Result<QuadMesh> {
         let n = self.points.len();
-        debug_assert!(vertex_of.len() == n && quad_of.len() == self.quads.len());
+        if vertex_of.len() != n {
+            return Err(Error::VertexCountMismatch { expected: vertex_of.len(), got: n });
+        }
+        if quad_of.len() != self.quads.len() {
+            return Err(Error::QuadCountMismatch { expected: quad_of.len(), got: self.quads.len() });
+        }
         let mut internal = try_filled(n, 0u32, "vertex order")?;
         for (i, &v) in vertex_of.iter().enumerate() {
             internal[v as usize] = i as u32;

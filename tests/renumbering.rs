@@ -125,3 +125,23 @@ fn tangled_quads_are_reported_in_the_callers_numbering() {
         }
     }
 }
+
+#[test]
+fn a_mesh_of_another_size_is_an_error_and_is_left_as_it_was() {
+    let (big, _, _) = shuffled(&large().generate(), 4);
+    let optimizer = Optimizer::new(&big);
+    // One quad fewer, same vertices.
+    let fewer = QuadMesh::new(big.points().to_vec(), big.quads()[1..].to_vec(), None).unwrap();
+    let mut m = fewer.clone();
+    let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
+    assert!(matches!(err, quadopt::Error::QuadCountMismatch { .. }), "{err}");
+    assert_eq!(m.points(), fewer.points());
+    // Another vertex count.
+    let mut points = big.points().to_vec();
+    points.push(DVec2::new(1e3, 1e3));
+    let mut m = QuadMesh::new(points, big.quads().to_vec(), None).unwrap();
+    let before = m.points().to_vec();
+    let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
+    assert!(matches!(err, quadopt::Error::VertexCountMismatch { .. }), "{err}");
+    assert_eq!(m.points(), &before[..]);
+}

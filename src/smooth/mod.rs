@@ -100,12 +100,6 @@ impl Optimizer {
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
         if let Some(renumbering) = &self.renumbering {
-            if mesh.points().len() != self.topology.vertex_count() {
-                return Err(Error::VertexCountMismatch {
-                    expected: self.topology.vertex_count(),
-                    got: mesh.points().len(),
-                });
-            }
             // On an error the caller's mesh is left as it was: only the copy has moved.
             let mut internal = renumbering.internal(mesh)?;
             let mut report = self.run_on_pool(&mut internal, options, progress)?;

@@ -36,10 +36,9 @@ pub enum Error {
     /// The coordinate array does not match the mesh it is applied to.
     #[error("{got} vertices were given, but the mesh has {expected}")]
     VertexCountMismatch { expected: usize, got: usize },
-    /// The mesh given to an optimizer has another number of quads than the one it was built
-    /// for.
-    #[error("{got} quads were given, but the optimizer was built for {expected}")]
-    QuadCountMismatch { expected: usize, got: usize },
+    /// The mesh given to an optimizer does not have the quads of the one it was built for.
+    #[error("the mesh's quads ({got}) are not those the optimizer was built for ({expected})")]
+    ConnectivityMismatch { expected: usize, got: usize },
     /// An option is out of its valid range.
     #[error("invalid option {name}: {reason}")]
     InvalidOption { name: &'static str, reason: String },

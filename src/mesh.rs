@@ -135,7 +135,7 @@ impl QuadMesh {
             return Err(Error::VertexCountMismatch { expected: vertex_of.len(), got: n });
         }
         if quad_of.len() != self.quads.len() {
-            return Err(Error::QuadCountMismatch { expected: quad_of.len(), got: self.quads.len() });
+            return Err(Error::ConnectivityMismatch { expected: quad_of.len(), got: self.quads.len() });
         }
         let mut internal = try_filled(n, 0u32, "vertex order")?;
         for (i, &v) in vertex_of.iter().enumerate() {

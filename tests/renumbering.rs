@@ -127,21 +127,32 @@ fn tangled_quads_are_reported_in_the_callers_numbering() {
 }
 
 #[test]
-fn a_mesh_of_another_size_is_an_error_and_is_left_as_it_was() {
+fn a_mesh_with_other_quads_is_an_error_and_is_left_as_it_was() {
+    // Renumbered (large, scattered) and in its own order (small).
+    let small = Synthetic { nx: 10, ny: 10, holes: 0, ..Synthetic::default() }.generate();
     let (big, _, _) = shuffled(&large().generate(), 4);
-    let optimizer = Optimizer::new(&big);
-    // One quad fewer, same vertices.
-    let fewer = QuadMesh::new(big.points().to_vec(), big.quads()[1..].to_vec(), None).unwrap();
-    let mut m = fewer.clone();
-    let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
-    assert!(matches!(err, quadopt::Error::QuadCountMismatch { .. }), "{err}");
-    assert_eq!(m.points(), fewer.points());
-    // Another vertex count.
-    let mut points = big.points().to_vec();
-    points.push(DVec2::new(1e3, 1e3));
-    let mut m = QuadMesh::new(points, big.quads().to_vec(), None).unwrap();
-    let before = m.points().to_vec();
-    let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
-    assert!(matches!(err, quadopt::Error::VertexCountMismatch { .. }), "{err}");
-    assert_eq!(m.points(), &before[..]);
+    for mesh in [small, big] {
+        let optimizer = Optimizer::new(&mesh);
+        let mut reversed = mesh.quads().to_vec();
+        reversed.reverse();
+        // One quad fewer; the same quads in another order.
+        for quads in [mesh.quads()[1..].to_vec(), reversed] {
+            let other = QuadMesh::new(mesh.points().to_vec(), quads, None).unwrap();
+            let mut m = other.clone();
+            let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
+            assert!(matches!(err, quadopt::Error::ConnectivityMismatch { .. }), "{err}");
+            assert_eq!(m.points(), other.points());
+        }
+        // Another vertex count.
+        let mut points = mesh.points().to_vec();
+        points.push(DVec2::new(1e3, 1e3));
+        let mut m = QuadMesh::new(points, mesh.quads().to_vec(), None).unwrap();
+        let before = m.points().to_vec();
+        let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
+        assert!(matches!(err, quadopt::Error::VertexCountMismatch { .. }), "{err}");
+        assert_eq!(m.points(), &before[..]);
+        // Its own mesh runs.
+        let mut m = mesh.clone();
+        optimizer.run(&mut m, &Options::default(), None).unwrap();
+    }
 }

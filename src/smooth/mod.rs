@@ -64,23 +64,38 @@ pub struct Optimizer {
     /// The topology, in the internal numbering when there is one.
     topology: Topology,
     renumbering: Option<Renumbering>,
+    /// The quad count and a fingerprint of the quads it was built for: a run on other quads
+    /// is an error, not an index out of range.
+    quad_count: usize,
+    fingerprint: u64,
+}
+
+/// A 64-bit FNV-1a hash of the quads' vertex indices.
+fn fingerprint(quads: &[[u32; 4]]) -> u64 {
+    quads
+        .iter()
+        .flatten()
+        .fold(0xcbf2_9ce4_8422_2325, |h, &v| (h ^ u64::from(v)).wrapping_mul(0x0100_0000_01b3))
 }
 
 impl Optimizer {
     /// Builds the topology of `mesh`.
     pub fn new(mesh: &QuadMesh) -> Optimizer {
         // The order is only for speed: without the memory for it the mesh keeps its own.
+        let (quad_count, fingerprint) = (mesh.quads().len(), fingerprint(mesh.quads()));
         if let Ok(Some(renumbering)) = Renumbering::new(mesh) {
             if let Ok(internal) = renumbering.internal(mesh) {
-                return Optimizer { topology: Topology::new(&internal), renumbering: Some(renumbering) };
+                let topology = Topology::new(&internal);
+                return Optimizer { topology, renumbering: Some(renumbering), quad_count, fingerprint };
             }
         }
-        Optimizer { topology: Topology::new(mesh), renumbering: None }
+        Optimizer { topology: Topology::new(mesh), renumbering: None, quad_count, fingerprint }
     }
 
-    /// Optimizes `mesh` (which must have the connectivity this optimizer was built for). The
-    /// optional `progress` callback runs after every sweep; returning `false` cancels, keeping
-    /// the best positions reached so far.
+    /// Optimizes `mesh`, which must have the quads this optimizer was built for (else
+    /// [`Error::VertexCountMismatch`] or [`Error::ConnectivityMismatch`], the mesh untouched).
+    /// The optional `progress` callback runs after every sweep; returning `false` cancels,
+    /// keeping the best positions reached so far.
     ///
     /// The run works on coordinates normalized to the mesh's bounding box
     /// ([`crate::normalization`]), so its result does not depend on the mesh's units: scaled by
@@ -99,6 +114,15 @@ impl Optimizer {
         options: &Options,
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
+        if mesh.points().len() != self.topology.vertex_count() {
+            return Err(Error::VertexCountMismatch {
+                expected: self.topology.vertex_count(),
+                got: mesh.points().len(),
+            });
+        }
+        if mesh.quads().len() != self.quad_count || fingerprint(mesh.quads()) != self.fingerprint {
+            return Err(Error::ConnectivityMismatch { expected: self.quad_count, got: mesh.quads().len() });
+        }
         if let Some(renumbering) = &self.renumbering {
             // On an error the caller's mesh is left as it was: only the copy has moved.
             let mut internal = renumbering.internal(mesh)?;

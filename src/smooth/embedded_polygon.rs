@@ -22,7 +22,12 @@ use glam::DVec2;
 /// length is at least sqrt(2) before normalizing).
 #[inline]
 fn bisector(c: DVec2, b: DVec2) -> DVec2 {
-    let (c, b) = (c / c.length(), b / b.length());
+    unit_bisector(c / c.length(), b / b.length())
+}
+
+/// [`bisector`] of the unit directions `c` and `b`.
+#[inline]
+fn unit_bisector(c: DVec2, b: DVec2) -> DVec2 {
     if c.dot(b) > 0.0 {
         let sum = c + b;
         let sum = sum / sum.length();
@@ -80,17 +85,29 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
     }
     let mut cand = [DVec2::ZERO; MAX];
     let mut theta = [f64::NAN; MAX];
+    // The polygon's edges, from corner i to corner i + 1, and their unit directions: corner
+    // i's next edge is edge i, its previous one edge i - 1 reversed (-d / l is -(d / l) bit for
+    // bit), so each is normalized once; `bisect` gives the same bits.
+    let mut edge = [DVec2::ZERO; MAX];
+    let mut unit = [DVec2::ZERO; MAX];
+    for i in 0..n {
+        edge[i] = points[ring[(i + 1) % n] as usize] - points[ring[i] as usize];
+        unit[i] = edge[i] / edge[i].length();
+    }
     let (mut sum_abs, mut energy) = (0.0, 0.0);
     for i in 0..n {
         let corner = points[ring[i] as usize];
-        let prev = points[ring[(i + n - 1) % n] as usize];
-        let next = points[ring[(i + 1) % n] as usize];
-        if let Some((t, candidate)) = bisect(p, corner, prev, next) {
-            theta[i] = t;
-            cand[i] = candidate;
-            sum_abs += t.abs();
-            energy += 0.5 * t * t;
+        let a = p - corner;
+        let j = (i + n - 1) % n;
+        if a == DVec2::ZERO || edge[i] == DVec2::ZERO || edge[j] == DVec2::ZERO {
+            continue;
         }
+        let bis = unit_bisector(unit[i], -unit[j]);
+        let t = a.perp_dot(bis).atan2(a.dot(bis));
+        theta[i] = t;
+        cand[i] = corner + a.length() * bis;
+        sum_abs += t.abs();
+        energy += 0.5 * t * t;
     }
     if sum_abs == 0.0 {
         return (p, energy);

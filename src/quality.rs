@@ -111,16 +111,12 @@ fn below_from_squares(q: &[DVec2; 4], floor: f64) -> Option<bool> {
     if !(SQUARES_FLOOR_LOW..=1.0).contains(&floor) || q[3] == q[2] || !in_exact_range(q) {
         return None;
     }
-    let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
-    let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
     let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
     let s = [e[0].length_squared(), e[1].length_squared(), e[2].length_squared(), e[3].length_squared()];
     let shortest = s[0].min(s[1]).min(s[2]).min(s[3]);
     let longest = s[0].max(s[1]).max(s[2]).max(s[3]);
-    // The same bound as scaled_jacobian_in_range's: every edge clearly at least this long is
-    // not short there.
-    let d = hi - lo;
-    let clearly_long = DEGENERATE_EDGE_RELATIVE * (d.x + d.y) * (1.0 + 4.0 * f64::EPSILON);
+    // The bound scaled_jacobian_in_range uses: an edge clearly longer is not short there.
+    let (clearly_long, _) = clearly_long_bound(q);
     if !(shortest >= SQUARES_EDGE_LOW
         && longest <= SQUARES_EDGE_HIGH
         && shortest >= clearly_long * clearly_long * (1.0 + SQUARES_MARGIN))
@@ -166,6 +162,20 @@ fn in_exact_range(q: &[DVec2; 4]) -> bool {
     ok
 }
 
+/// A length every edge at least as long as is not short for Verdict's cut-off
+/// ([`DEGENERATE_EDGE_RELATIVE`] times the diagonal of the quad's bounding box), and that box's
+/// extent. The cut-off is DEGENERATE_EDGE_RELATIVE times the diagonal |hi - lo| <= dx + dy;
+/// the computed diagonal exceeds dx + dy by at most 2 ulps, the bound falls short of it by at
+/// most 3 and is raised by 4: the diagonal's square root is needed only for the rare quads
+/// with a shorter edge.
+#[inline]
+fn clearly_long_bound(q: &[DVec2; 4]) -> (f64, DVec2) {
+    let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
+    let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
+    let d = hi - lo;
+    (DEGENERATE_EDGE_RELATIVE * (d.x + d.y) * (1.0 + 4.0 * f64::EPSILON), d)
+}
+
 /// The scaled Jacobian of a quad whose coordinates are in a range where no step of the
 /// computation over- or underflows (see [`in_exact_range`]).
 #[inline]
@@ -173,18 +183,11 @@ fn scaled_jacobian_in_range(q: &[DVec2; 4]) -> f64 {
     if q[3] == q[2] {
         return triangle_scaled_jacobian(q[0], q[1], q[2]);
     }
-    let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
-    let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
     // Edge i runs from corner i to corner i + 1.
     let e = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]];
     let len = [e[0].length(), e[1].length(), e[2].length(), e[3].length()];
     let shortest = len[0].min(len[1]).min(len[2]).min(len[3]);
-    // The cut-off is DEGENERATE_EDGE_RELATIVE times the diagonal |hi - lo| <= dx + dy; the
-    // computed diagonal exceeds dx + dy by at most 2 ulps, the bound below falls short of it
-    // by at most 3 and is raised by 4: an edge at least this long is not short, and the
-    // diagonal's square root is needed only for the rare quads with a shorter edge.
-    let d = hi - lo;
-    let clearly_long = DEGENERATE_EDGE_RELATIVE * (d.x + d.y) * (1.0 + 4.0 * f64::EPSILON);
+    let (clearly_long, d) = clearly_long_bound(q);
     if shortest == 0.0 || shortest < clearly_long {
         let short = DEGENERATE_EDGE_RELATIVE * d.length();
         if len.iter().any(|&l| l == 0.0 || l < short) {

@@ -56,7 +56,8 @@ pub(crate) struct Renumbering {
 }
 
 impl Renumbering {
-    /// The order for `mesh`, or `None` when it keeps its own (see [`MIN_VERTICES`]).
+    /// The order for `mesh`, or `None` when it keeps its own (small, see [`MIN_VERTICES`], or
+    /// already local).
     pub fn new(mesh: &QuadMesh) -> Result<Option<Renumbering>> {
         let points = mesh.points();
         if points.len() < MIN_VERTICES || already_local(mesh.quads()) {

@@ -265,13 +265,8 @@ impl Optimizer {
         mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<(Report, Vec<OnPolyline>)> {
         options.validate()?;
+        // `Optimizer::run` has checked the mesh against the topology.
         let topo = &self.topology;
-        if mesh.points().len() != topo.vertex_count() {
-            return Err(Error::VertexCountMismatch {
-                expected: topo.vertex_count(),
-                got: mesh.points().len(),
-            });
-        }
         let start = Instant::now();
         let input_values = mesh.quality_values();
         let input = QualityStats::from_values(&input_values);

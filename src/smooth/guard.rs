@@ -5,9 +5,10 @@
 //! anisotropic meshes it can lower the minimum quality or create inversions (DESIGN.md
 //! section 5). Vertices in a tangled star are not guarded, so untangling is never blocked.
 
-use crate::quality::{corners, scaled_jacobian, scaled_jacobian_below};
+use crate::quality::{QualityStats, corners, scaled_jacobian, scaled_jacobian_below};
 use crate::topology::Topology;
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// Step halvings tried before a guarded vertex stays where it is.
 const MAX_HALVINGS: usize = 8;
@@ -66,6 +67,98 @@ pub fn star_min_avg(
         sum += sj;
     }
     (min, sum / topo.vertex_quads(v).len().max(1) as f64)
+}
+
+/// Absolute margin of [`quad_slack`] for the rounding of the scaled Jacobians it compares
+/// (1e-15 relative): far above it, far below any quality difference that matters.
+const SLACK_MARGIN: f64 = 1e-9;
+
+/// How far each vertex of a quad may move (every one of them at once) before the quad's
+/// scaled Jacobian can fall below `floor`, given its value `value` and its corners `c`: a
+/// length that is not more than that, 0 (or less) when the quad is at or below the floor.
+///
+/// Moving an edge's two ends by at most D each turns the edge by at most asin(2D / l) <=
+/// pi D / l (l its length, 2D < l); a corner's angle then changes by at most 2 pi D / L (L
+/// the quad's shortest edge) and its value, the sine of that angle, by at most as much. So
+/// with D < (value - floor) L / (2 pi) the quad stays above the floor; its edges stay longer
+/// than L (1 - 1/pi), far from Verdict's degenerate-edge cut-off when L is not tiny next to
+/// the longest edge. A margin of 1e-9 covers the rounding of the scaled Jacobians. The
+/// result is rounded down to an f32 (half the memory).
+#[inline]
+pub fn quad_slack(c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
+    let squared = [c[1] - c[0], c[2] - c[1], c[3] - c[2], c[0] - c[3]].map(DVec2::length_squared);
+    let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
+    let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
+    let slack = (value - floor - SLACK_MARGIN) * shortest.sqrt() / std::f64::consts::TAU;
+    // No bound for a quad at or below the floor, a NaN (value or corner), or an edge shorter
+    // than 1e-12 of the longest, which could come near the cut-off (2.2e-15 of the quad's
+    // bounding-box diagonal).
+    if shortest >= 1e-24 * longest && slack > 0.0 {
+        // Positive: one step down in the bits is the next smaller f32 (f32::MAX from infinity).
+        let rounded = slack as f32;
+        if f64::from(rounded) <= slack { rounded } else { f32::from_bits(rounded.to_bits() - 1) }
+    } else {
+        0.0
+    }
+}
+
+/// The length of a move rounded up to an f32, to compare with [`quad_slack`]. (A length
+/// whose square underflows, below 1e-154, comes out 0: still below any positive slack.)
+#[inline]
+pub fn move_length(from: DVec2, to: DVec2) -> f32 {
+    let length = (to - from).length();
+    let rounded = length as f32;
+    // Non-negative (or NaN, which stays NaN): one step up in the bits is the next larger f32.
+    if f64::from(rounded) >= length { rounded } else { f32::from_bits(rounded.to_bits() + 1) }
+}
+
+/// Quads below which [`stats_and_slack`] runs on the calling thread.
+const PARALLEL_MIN: usize = 4096;
+
+/// Per-quad scaled Jacobians into `values` and [`quad_slack`]s for `floor` into `slack`
+/// (parallel), and their statistics (summed in a fixed order, the same on any thread count):
+/// what the ranking needs after a sweep and what lets the next sweep skip most guard checks.
+pub fn stats_and_slack(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    floor: f64,
+    values: &mut Vec<f64>,
+    slack: &mut Vec<f32>,
+) -> QualityStats {
+    let measure = |q: &[u32; 4]| {
+        let c = corners(points, q);
+        let value = scaled_jacobian(&c);
+        (value, quad_slack(&c, value, floor))
+    };
+    if quads.len() >= PARALLEL_MIN {
+        quads.par_iter().map(measure).unzip_into_vecs(values, slack);
+    } else {
+        values.clear();
+        slack.clear();
+        for (value, s) in quads.iter().map(measure) {
+            values.push(value);
+            slack.push(s);
+        }
+    }
+    QualityStats::from_values(values)
+}
+
+/// Whether moving `v` to `target` certainly keeps every quad around it at or above the floor
+/// that `slack` was computed for ([`stats_and_slack`]), given how far each vertex has moved
+/// since (`moved`, [`move_length`]): then [`star_at_least`] would say so too, and need not
+/// run. `false` means only "not certain". `v` must be a vertex with a ring (interior or
+/// boundary, not non-manifold): its full ring then holds every other vertex of its quads.
+pub fn certainly_at_least(
+    points: &[DVec2],
+    topo: &Topology,
+    v: usize,
+    target: DVec2,
+    slack: &[f32],
+    moved: &[f32],
+) -> bool {
+    let most =
+        topo.full_ring(v).iter().map(|&u| moved[u as usize]).fold(move_length(points[v], target), f32::max);
+    topo.vertex_quads(v).iter().all(|&qi| most < slack[qi as usize])
 }
 
 /// The position actually taken by `v` when it wants to go to `target`: the target itself if
@@ -162,6 +255,80 @@ mod tests {
             if want { yes += 1 } else { no += 1 }
         }
         assert!(yes > 1000 && no > 1000, "{yes} {no}");
+    }
+
+    #[test]
+    fn no_move_within_the_slack_takes_a_quad_below_the_floor() {
+        let mut rnd = crate::test_rng::xorshift(0x9e37_79b9_7f4a_7c15);
+        let (mut checked, mut beyond_fails) = (0, 0);
+        for _ in 0..20_000 {
+            // A random quad around the unit square (some skewed, some folded).
+            let c =
+                [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y].map(|p| p + 0.45 * DVec2::new(rnd(), rnd()));
+            let value = scaled_jacobian(&c);
+            let floor = 0.05 + 0.9 * (0.5 + 0.5 * rnd());
+            let slack = f64::from(quad_slack(&c, value, floor));
+            if slack <= 0.0 {
+                assert!(value <= floor + SLACK_MARGIN || value.is_nan(), "{value} {floor}");
+                continue;
+            }
+            // Every corner moved by up to the slack (the worst directions are the likeliest
+            // ones to break a wrong bound: each corner at full length, random direction).
+            let moved = |scale: f64, rnd: &mut dyn FnMut() -> f64| {
+                c.map(|p| p + scale * slack * DVec2::from_angle(std::f64::consts::PI * rnd()))
+            };
+            for _ in 0..8 {
+                let q = moved(1.0 - 1e-12, &mut rnd);
+                assert!(scaled_jacobian(&q) >= floor, "{c:?} -> {q:?}: floor {floor}");
+                checked += 1;
+                // The bound is not far from tight: ten times as far often breaks it.
+                beyond_fails += usize::from(scaled_jacobian(&moved(10.0, &mut rnd)) < floor);
+            }
+        }
+        assert!(checked > 20_000 && beyond_fails > 1000, "{checked} {beyond_fails}");
+    }
+
+    #[test]
+    fn a_certain_move_is_one_star_at_least_accepts() {
+        let (m, t) = grid_2x2();
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut certain = 0;
+        for _ in 0..20_000 {
+            // The slack at a random start, then the ring moved (as earlier colour classes
+            // would) and a random target for the centre.
+            let start: Vec<DVec2> = m.points().iter().map(|&p| p + 0.3 * DVec2::new(rnd(), rnd())).collect();
+            let floor = 0.05 + 0.5 * (0.5 + 0.5 * rnd());
+            let (mut values, mut slack) = (Vec::new(), Vec::new());
+            stats_and_slack(&start, m.quads(), floor, &mut values, &mut slack);
+            let step = 0.02 * (0.5 + 0.5 * rnd());
+            let mut points = start.clone();
+            let mut moved = vec![0.0f32; points.len()];
+            for u in (0..points.len()).filter(|&u| u != 4) {
+                points[u] += step * DVec2::new(rnd(), rnd());
+                moved[u] = move_length(start[u], points[u]);
+            }
+            let target = points[4] + step * DVec2::new(rnd(), rnd());
+            if certainly_at_least(&points, &t, 4, target, &slack, &moved) {
+                assert!(star_at_least(&points, m.quads(), &t, 4, target, floor));
+                certain += 1;
+            }
+        }
+        assert!(certain > 2000, "{certain}");
+    }
+
+    #[test]
+    fn lengths_round_up_and_slack_down() {
+        for x in [1e-150, 1e-40, 0.1, 1.0 / 3.0, 7.0, 1e39] {
+            let d = move_length(DVec2::ZERO, DVec2::new(x, 0.0));
+            assert!(f64::from(d) >= x, "{x}");
+        }
+        let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let s = quad_slack(&square, 1.0, 0.3);
+        assert!(f64::from(s) <= 0.7 / std::f64::consts::TAU && s > 0.11, "{s}");
+        assert_eq!(quad_slack(&square, 0.3, 0.3), 0.0);
+        assert_eq!(quad_slack(&square, f64::NAN, 0.3), 0.0);
+        let sliver = [DVec2::ZERO, DVec2::X, DVec2::new(1.0, 1e-13), DVec2::new(0.0, 1e-13)];
+        assert_eq!(quad_slack(&sliver, 1.0, 0.3), 0.0);
     }
 
     #[test]

@@ -38,6 +38,8 @@ struct Update {
     param: f64,
     /// Torsion energy of the vertex before its move.
     energy: f64,
+    /// How far it moved ([`guard::move_length`]; 0 without the guard).
+    moved: f32,
 }
 
 /// Result of a pass.
@@ -107,7 +109,19 @@ impl RunContext<'_> {
         let mut best_stats = self.input;
         let mut best_points = start.to_vec();
         let mut best_params = params.clone();
-        let current = stats_of(&points, self.quads, &mut values);
+        // With the guard, each sweep starts from the slack of every quad at its start and
+        // records how far each vertex moved during it: most guard checks are then certain
+        // without evaluating the star (see guard::certainly_at_least).
+        let mut slack = Vec::new();
+        let mut moved = if opts.guard { vec![0.0f32; points.len()] } else { Vec::new() };
+        let measure = |points: &[DVec2], values: &mut Vec<f64>, slack: &mut Vec<f32>| {
+            if opts.guard {
+                guard::stats_and_slack(points, self.quads, self.floor, values, slack)
+            } else {
+                stats_of(points, self.quads, values)
+            }
+        };
+        let current = measure(&points, &mut values, &mut slack);
         if !self.inverts_a_valid_quad(&values) && improves(&current, &best_stats, &self.input) {
             best_stats = current;
             best_points.copy_from_slice(&points);
@@ -124,14 +138,16 @@ impl RunContext<'_> {
         let (mut iterations, mut converged) = (0, false);
         while iterations < opts.max_iterations && !cancelled {
             let mut energy = 0.0;
-            let mut moved = false;
+            let mut any_moved = false;
+            moved.fill(0.0);
             for c in 0..self.topo.colour_count() {
                 let class = self.topo.colour_class(c);
                 updates.clear();
                 {
                     let (pts, prm) = (&points[..], &params[..]);
+                    let since = opts.guard.then_some(Since { slack: &slack, moved: &moved });
                     let movable = |&&v: &&u32| self.features.is_movable(v as usize);
-                    let update = |&v: &u32| self.update(pts, prm, v as usize, loop_modes);
+                    let update = |&v: &u32| self.update(pts, prm, v as usize, loop_modes, since);
                     if class.len() >= PARALLEL_MIN {
                         updates.par_extend(class.par_iter().filter(movable).map(update));
                     } else {
@@ -141,8 +157,11 @@ impl RunContext<'_> {
                 // Sequential: the same sum whatever the thread count.
                 for u in &updates {
                     energy += u.energy;
-                    moved |= points[u.vertex as usize] != u.position;
+                    any_moved |= points[u.vertex as usize] != u.position;
                     points[u.vertex as usize] = u.position;
+                    if opts.guard {
+                        moved[u.vertex as usize] = u.moved;
+                    }
                     if let Some(slot) = self.geometry.slot(u.vertex as usize) {
                         params[slot] = u.param;
                     }
@@ -152,7 +171,7 @@ impl RunContext<'_> {
             if iterations == 1 {
                 initial_energy = energy;
             }
-            let stats = stats_of(&points, self.quads, &mut values);
+            let stats = measure(&points, &mut values, &mut slack);
             if !self.inverts_a_valid_quad(&values) && improves_with_tie(&stats, &best_stats, &self.input, tie)
             {
                 best_stats = stats;
@@ -177,7 +196,7 @@ impl RunContext<'_> {
             }
             // Under the quality rule a sweep that moved nothing ends the run: every later sweep
             // would repeat it. (The energy rule is the paper's: tau = 0 runs to the cap.)
-            if stop || (!moved && opts.stop == StopRule::Quality) {
+            if stop || (!any_moved && opts.stop == StopRule::Quality) {
                 converged = true;
                 break;
             }
@@ -298,10 +317,27 @@ impl RunContext<'_> {
             .sum()
     }
 
-    fn update(&self, points: &[DVec2], params: &[f64], v: usize, loop_modes: &[BoundaryMode]) -> Update {
-        if self.features.is_boundary(v) {
-            return self.boundary_update(points, params, v, loop_modes);
+    fn update(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        v: usize,
+        loop_modes: &[BoundaryMode],
+        since: Option<Since>,
+    ) -> Update {
+        let mut update = if self.features.is_boundary(v) {
+            self.boundary_update(points, params, v, loop_modes, since)
+        } else {
+            self.interior_update(points, v, since)
+        };
+        if since.is_some() {
+            update.moved = guard::move_length(points[v], update.position);
         }
+        update
+    }
+
+    /// An interior vertex: its method's target, through the guard.
+    fn interior_update(&self, points: &[DVec2], v: usize, since: Option<Since>) -> Update {
         let opts = self.options;
         let ring = self.topo.ring(v);
         let (target, energy) = match opts.method {
@@ -321,12 +357,18 @@ impl RunContext<'_> {
         let moved = p + opts.lambda * (target - p);
         // Next to coordinates near f64::MAX a target can overflow: then the vertex stays.
         let target = if moved.is_finite() { moved } else { p };
-        let position = if opts.guard && target != p {
+        let position = if opts.guard && target != p && !self.certainly_at_least(points, v, target, since) {
             guard::guarded_position(points, self.quads, self.topo, v, target, self.floor)
         } else {
             target
         };
-        Update { vertex: v as u32, position, param: 0.0, energy }
+        Update { vertex: v as u32, position, param: 0.0, energy, moved: 0.0 }
+    }
+
+    /// Whether moving `v` to `target` certainly keeps its star at or above the guard's floor,
+    /// from the sweep's slack (false without one).
+    fn certainly_at_least(&self, points: &[DVec2], v: usize, target: DVec2, since: Option<Since>) -> bool {
+        since.is_some_and(|s| guard::certainly_at_least(points, self.topo, v, target, s.slack, s.moved))
     }
 
     /// A boundary vertex: its loop's approach's candidate, accepted whole or not at all, since
@@ -337,6 +379,7 @@ impl RunContext<'_> {
         params: &[f64],
         v: usize,
         loop_modes: &[BoundaryMode],
+        since: Option<Since>,
     ) -> Update {
         let opts = self.options;
         let p = points[v];
@@ -345,6 +388,7 @@ impl RunContext<'_> {
             position: p,
             param: current_param(self.geometry, params, v),
             energy,
+            moved: 0.0,
         };
         let Some(l) = self.geometry.loop_of(v) else { return stay(0.0) };
         let (target, param, energy, at_target) = if loop_modes[l] == BoundaryMode::Auto {
@@ -354,8 +398,12 @@ impl RunContext<'_> {
             let c = self.boundary_candidate(points, params, v, loop_modes[l]);
             (c.0, c.1, c.2, None)
         };
-        if !opts.guard || target == p {
-            return Update { vertex: v as u32, position: target, param, energy };
+        let take = Update { vertex: v as u32, position: target, param, energy, moved: 0.0 };
+        if !opts.guard
+            || target == p
+            || (at_target.is_none() && self.certainly_at_least(points, v, target, since))
+        {
+            return take;
         }
         let at_target =
             at_target.unwrap_or_else(|| guard::star_min(points, self.quads, self.topo, v, target));
@@ -363,7 +411,7 @@ impl RunContext<'_> {
             let current = guard::star_min(points, self.quads, self.topo, v, p);
             at_target >= current || current <= 0.0
         };
-        if ok { Update { vertex: v as u32, position: target, param, energy } } else { stay(energy) }
+        if ok { take } else { stay(energy) }
     }
 
     /// Boundary vertex `v`'s candidate (position, arclength parameter, energy) in `mode`.
@@ -418,6 +466,14 @@ impl RunContext<'_> {
             (slide, BoundaryMode::Slide, Some(q_slide.0))
         }
     }
+}
+
+/// What a sweep's guard knows since the sweep started: the slack of every quad then
+/// ([`guard::stats_and_slack`]) and how far each vertex has moved since ([`guard::move_length`]).
+#[derive(Clone, Copy)]
+struct Since<'a> {
+    slack: &'a [f32],
+    moved: &'a [f32],
 }
 
 fn current_param(geometry: &BoundaryGeometry, params: &[f64], v: usize) -> f64 {

@@ -405,6 +405,42 @@ fn the_average_recovery_stops_when_a_sweep_gains_little() {
     assert!(all.after.avg > one.after.avg);
 }
 
+#[test]
+fn the_average_recovery_covers_at_most_its_budget_of_vertices() {
+    let mesh = jittered_grid(16, 0.35, 11);
+    let vertices = mesh.points().len();
+    let with = |per_vertex: f64| {
+        let settings = MaxMinSettings {
+            average_min_gain: 0.0,
+            recovery_searches_per_vertex: per_vertex,
+            min_recovery_searches: 0,
+            ..MaxMinSettings::default()
+        };
+        run(&mesh, BoundaryMode::Fixed, &settings).1
+    };
+    // Without a budget the recovery runs several sweeps; each covers at most every vertex.
+    let free = with(f64::INFINITY);
+    assert!(free.average_sweeps >= 3, "{}", free.average_sweeps);
+    // A budget of one vertex: the first sweep only (it always runs). Of 1.5 x the vertices:
+    // fewer sweeps than without, each start within the budget.
+    assert_eq!(with(1.0 / vertices as f64).average_sweeps, 1);
+    let half = with(1.5);
+    assert!(half.average_sweeps >= 1 && half.average_sweeps < free.average_sweeps);
+    for r in [&free, &half] {
+        assert_monotone(r);
+    }
+    assert!(free.after.avg >= half.after.avg);
+    // The default's floor keeps the whole recovery on a mesh this small.
+    let default = run(
+        &mesh,
+        BoundaryMode::Fixed,
+        &MaxMinSettings { average_min_gain: 0.0, ..MaxMinSettings::default() },
+    )
+    .1;
+    assert_eq!(default.average_sweeps, free.average_sweeps);
+    assert_eq!(default.after, free.after);
+}
+
 /// Per quad, min(0.1 x its longest edge, 0.5 x its shortest edge).
 fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
     quads

@@ -151,12 +151,35 @@ impl BoundaryGeometry {
     /// slots and the fraction `t` in [0, 1] of the way from the first to the second
     /// (0 on a degenerate segment).
     fn segment_at(&self, l: usize, s: f64) -> (usize, usize, f64) {
+        let mut no_hint = usize::MAX;
+        self.segment_near(l, s, &mut no_hint)
+    }
+
+    /// [`BoundaryGeometry::eval`] at every arclength of `s` on loop `l`, into `out`. Nearby
+    /// arclengths (a search's samples) mostly fall on the segment of the one before, which is
+    /// then checked first instead of searched for: the same points.
+    pub fn eval_many(&self, l: usize, s: impl Iterator<Item = f64>, out: &mut Vec<DVec2>) {
+        out.clear();
+        let mut hint = usize::MAX;
+        out.extend(s.map(|s| {
+            let (p0, p1, t) = self.segment_near(l, s, &mut hint);
+            let (p0, p1) = (self.origin[p0], self.origin[p1]);
+            if t == 0.0 { p0 } else { p0 + (p1 - p0) * t }
+        }));
+    }
+
+    /// [`BoundaryGeometry::segment_at`], trying first the segment at index `hint` of the loop
+    /// (updated to the one found).
+    fn segment_near(&self, l: usize, s: f64, hint: &mut usize) -> (usize, usize, f64) {
         let (a, b) = self.loop_slots(l);
         let len = self.loop_length[l];
         let s = s.rem_euclid(len);
         let cum = &self.arclength[a..b];
-        // Last slot whose arclength is <= s.
-        let i = cum.partition_point(|&c| c <= s).saturating_sub(1);
+        // Last slot whose arclength is <= s (on sorted arclengths, the hint is that slot
+        // exactly when its arclength is <= s and the next one's is > s).
+        let fits = |i: usize| i < cum.len() && cum[i] <= s && cum.get(i + 1).is_none_or(|&c| c > s);
+        let i = if fits(*hint) { *hint } else { cum.partition_point(|&c| c <= s).saturating_sub(1) };
+        *hint = i;
         let (next, end) = if i + 1 < cum.len() { (a + i + 1, cum[i + 1]) } else { (a, len) };
         let seg = end - cum[i];
         let t = if seg > 0.0 { ((s - cum[i]) / seg).clamp(0.0, 1.0) } else { 0.0 };
@@ -353,5 +376,34 @@ mod tests {
         // A jump (as the wrapped angle has) is still bracketed.
         let r = bracketed_root(|x| if x < 1.25 { 1.0 } else { -1.0 }, 0.0, 2.0, 1e-12);
         assert!((r - 1.25).abs() < 1e-11, "{r}");
+    }
+
+    #[test]
+    fn eval_many_gives_the_points_of_eval() {
+        // A 5x3 grid: one loop of 16 boundary vertices (the corners included).
+        let mesh = crate::smooth::tests::grid(5, 3);
+        let topo = Topology::new(&mesh);
+        let features = Features::new(&mesh, &topo, 30.0, true);
+        let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);
+        let len = geometry.loop_length(0);
+        let mut rnd = crate::test_rng::xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut out = Vec::new();
+        for _ in 0..2_000 {
+            // Increasing runs (a search's samples), across the loop's start and beyond it.
+            let from = 3.0 * len * rnd();
+            let step = len * 0.2 * rnd().abs();
+            let samples: Vec<f64> = (0..16).map(|i| from + step * i as f64).collect();
+            geometry.eval_many(0, samples.iter().copied(), &mut out);
+            for (&s, p) in samples.iter().zip(&out) {
+                let e = geometry.eval(0, s);
+                assert_eq!((p.x.to_bits(), p.y.to_bits()), (e.x.to_bits(), e.y.to_bits()), "at {s}");
+            }
+        }
+        // Exactly on the vertices, where the hint must move on.
+        let at_vertices: Vec<f64> = geometry.arclength[..16].to_vec();
+        geometry.eval_many(0, at_vertices.iter().copied(), &mut out);
+        for (&s, p) in at_vertices.iter().zip(&out) {
+            assert_eq!(*p, geometry.eval(0, s));
+        }
     }
 }

@@ -315,6 +315,34 @@ impl FixedPart {
     }
 }
 
+/// Positions [`Star::values_above`] evaluates together.
+const LANES: usize = 4;
+
+impl FixedPart {
+    /// For `LANES` positions of the moving corner: the squared lengths of its edges to the
+    /// next and the previous corner, and the quad's fast value (unchecked: the caller applies
+    /// `value_from`'s tests). The same operations in the same order as `MovingEdges::new`
+    /// and `value_from`, lane by lane, so the same bits.
+    #[inline]
+    fn lanes(&self, x: &[f64; LANES], y: &[f64; LANES]) -> ([f64; LANES], [f64; LANES], [f64; LANES]) {
+        let (mut next_squared, mut prev_squared, mut fast) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+        let (d_next, d_prev) = (self.opposite - self.next, self.opposite - self.prev);
+        for l in 0..LANES {
+            let (ux, uy) = (self.next.x - x[l], self.next.y - y[l]);
+            let (wx, wy) = (self.prev.x - x[l], self.prev.y - y[l]);
+            let (ns, ps) = ((ux * ux) + (uy * uy), (wx * wx) + (wy * wy));
+            let (lu, lw) = (ns.sqrt(), ps.sqrt());
+            let at_x = ((ux * wy) - (uy * wx)) / (lu * lw);
+            let at_next = ((d_next.x * -uy) - (d_next.y * -ux)) / (self.next_len * lu);
+            let at_prev = ((-wx * d_prev.y) - (-wy * d_prev.x)) / (lw * self.prev_len);
+            next_squared[l] = ns;
+            prev_squared[l] = ps;
+            fast[l] = at_x.min(at_next).min(at_prev).min(self.opposite_value);
+        }
+        (next_squared, prev_squared, fast)
+    }
+}
+
 /// Star minimum and average at one position; `min` is -inf when a valid quad would invert.
 #[derive(Clone, Copy, Debug)]
 struct Value {
@@ -384,6 +412,70 @@ impl Star {
             return REJECTED;
         }
         Value { min, avg: sum / self.quads.len().max(1) as f64 }
+    }
+
+    /// [`Star::value_above`] of every position of `at`, into `out` (same length): the same
+    /// values bit for bit, computed [`LANES`] positions at a time. The square roots and
+    /// divisions of the quads' fast values are evaluated for all lanes together (the compiler
+    /// vectorizes them; IEEE operations round the same in any lane), then each lane replays
+    /// `value_above`'s sequential rules (rejections, fallbacks, the early exit) on them. A
+    /// group stops at the first quad after which every lane is decided, so most of the early
+    /// exits' saving is kept.
+    fn values_above(&self, at: &[DVec2], bar: f64, out: &mut Vec<Value>) {
+        out.clear();
+        for group in at.chunks(LANES) {
+            // A short last group repeats its last position in the unused lanes.
+            let lane = |l: usize| group[l.min(group.len() - 1)];
+            let (x, y): ([f64; LANES], [f64; LANES]) =
+                (std::array::from_fn(|l| lane(l).x), std::array::from_fn(|l| lane(l).y));
+            let mut min = [f64::INFINITY; LANES];
+            let mut sum = [0.0; LANES];
+            let mut result: [Option<Value>; LANES] = [None; LANES];
+            let mut open = group.len();
+            let quads = self.quads.iter().zip(&self.valid).zip(&self.fixed_part).zip(&self.shortest_squared);
+            for ((((c, k), &valid), part), &shortest) in quads {
+                let lanes = part.lanes(&x, &y);
+                for l in 0..group.len() {
+                    if result[l].is_some() {
+                        continue;
+                    }
+                    let (next_squared, prev_squared, fast) = (lanes.0[l], lanes.1[l], lanes.2[l]);
+                    if next_squared < shortest || prev_squared < shortest {
+                        (result[l], open) = (Some(REJECTED), open - 1);
+                        continue;
+                    }
+                    // As `FixedPart::value_from`; NaN fails the test too.
+                    let q = if part.usable && fast >= FAST_FLOOR {
+                        fast
+                    } else {
+                        let mut c = *c;
+                        c[*k] = group[l];
+                        scaled_jacobian(&c)
+                    };
+                    if valid && q <= 0.0 {
+                        (result[l], open) = (Some(REJECTED), open - 1);
+                        continue;
+                    }
+                    min[l] = min[l].min(q);
+                    sum[l] += q;
+                    if min[l] < bar {
+                        (result[l], open) = (Some(Value { min: min[l], avg: f64::NEG_INFINITY }), open - 1);
+                    }
+                }
+                if open == 0 {
+                    break;
+                }
+            }
+            for (l, &p) in group.iter().enumerate() {
+                out.push(result[l].unwrap_or_else(|| {
+                    if !p.is_finite() || min[l].is_nan() {
+                        REJECTED
+                    } else {
+                        Value { min: min[l], avg: sum[l] / self.quads.len().max(1) as f64 }
+                    }
+                }));
+            }
+        }
     }
 
     /// Every corner's scaled Jacobian at `at` and its gradient with respect to `at`.
@@ -583,19 +675,21 @@ fn grid_search(
     let mut centre = start;
     let mut centre_min = score(star.value(start));
     let mut scale = 0.5;
+    let (mut positions, mut values) = (Vec::with_capacity(n * n), Vec::with_capacity(n * n));
     for _ in 0..settings.grid_levels.max(1) {
         let (lo, hi) = (centre - scale * extent, centre + scale * extent);
         let mut level_best = (f64::NEG_INFINITY, centre);
         let bar = bar(centre_min);
-        for i in 0..n {
-            for j in 0..n {
-                let t = DVec2::new(i as f64 * affine, j as f64 * affine);
-                let p = lo + (hi - lo) * t;
-                let value = star.value_above(p, bar);
-                seen.add(p, value);
-                if score(value) > level_best.0 {
-                    level_best = (score(value), p);
-                }
+        positions.clear();
+        positions.extend((0..n * n).map(|ij| {
+            let t = DVec2::new((ij / n) as f64 * affine, (ij % n) as f64 * affine);
+            lo + (hi - lo) * t
+        }));
+        star.values_above(&positions, bar, &mut values);
+        for (&p, &value) in positions.iter().zip(&values) {
+            seen.add(p, value);
+            if score(value) > level_best.0 {
+                level_best = (score(value), p);
             }
         }
         if level_best.0 > centre_min {
@@ -778,13 +872,16 @@ fn boundary_move(
     };
     let n = settings.boundary_samples.max(2);
     let (mut from, mut to) = (lo, hi);
+    let (mut positions, mut values) = (Vec::with_capacity(n), Vec::with_capacity(n));
     // Refine until the spacing is at roundoff level of the loop's length.
     for _ in 0..40 {
         let step = (to - from) / (n - 1) as f64;
         let mut level_best = (f64::NEG_INFINITY, from);
-        for i in 0..n {
+        geometry.eval_many(l, (0..n).map(|i| from + step * i as f64), &mut positions);
+        star.values_above(&positions, f64::NEG_INFINITY, &mut values);
+        for (i, &value) in values.iter().enumerate() {
             let s = from + step * i as f64;
-            let value = if within_tolerance(s) { star.value(geometry.eval(l, s)) } else { REJECTED };
+            let value = if within_tolerance(s) { value } else { REJECTED };
             seen.add(s, value);
             if score(value) > level_best.0 {
                 level_best = (score(value), s);
@@ -1163,6 +1260,61 @@ mod tests {
             }
         }
         assert!(fast > 5_000, "the fast path was taken only {fast} times");
+    }
+
+    #[test]
+    fn batched_star_values_are_those_of_value_above_bit_for_bit() {
+        // Stars of 1 to 7 random quads around a corner (some near degenerate, inverted or
+        // below an edge floor), positions in groups of every length, bars that stop the
+        // evaluation early or never.
+        let mut rnd = crate::test_rng::xorshift(0x5851_f42d_4c95_7f2du64);
+        let (mut at, mut out) = (Vec::new(), Vec::new());
+        let (mut early, mut rejected, mut complete) = (0, 0, 0);
+        for round in 0..3_000 {
+            let centre = DVec2::new(rnd(), rnd());
+            let count = 1 + round % 7;
+            let quads: Vec<([DVec2; 4], usize)> = (0..count)
+                .map(|i| {
+                    let k = i % 4;
+                    let mut c = [DVec2::ZERO; 4];
+                    for (j, p) in c.iter_mut().enumerate() {
+                        *p = centre + DVec2::new(rnd(), rnd()) * if j == (k + 2) % 4 { 2.0 } else { 1.0 };
+                    }
+                    if round % 11 == 0 {
+                        c[(k + 1) % 4] = c[(k + 2) % 4]; // a degenerate fixed edge
+                    }
+                    c[k] = centre;
+                    (c, k)
+                })
+                .collect();
+            let star = Star {
+                valid: quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect(),
+                fixed_part: quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect(),
+                shortest_squared: (0..count)
+                    .map(|i| if i % 3 == 2 { 0.05 * rnd().abs() } else { 0.0 })
+                    .collect(),
+                quads,
+            };
+            at.clear();
+            at.extend((0..1 + round % 9).map(|_| centre + 0.3 * DVec2::new(rnd(), rnd())));
+            if round % 13 == 0 {
+                at.push(DVec2::new(f64::NAN, 0.0));
+            }
+            let bar = [f64::NEG_INFINITY, -0.5, 0.0, 0.2, 0.6, 1.0][round % 6];
+            star.values_above(&at, bar, &mut out);
+            assert_eq!(out.len(), at.len());
+            for (&p, got) in at.iter().zip(&out) {
+                let want = star.value_above(p, bar);
+                assert_eq!(got.min.to_bits(), want.min.to_bits(), "min at {p} bar {bar}");
+                assert_eq!(got.avg.to_bits(), want.avg.to_bits(), "avg at {p} bar {bar}");
+                match (want.min == f64::NEG_INFINITY, want.avg == f64::NEG_INFINITY) {
+                    (true, _) => rejected += 1,
+                    (false, true) => early += 1,
+                    _ => complete += 1,
+                }
+            }
+        }
+        assert!(early > 1_000 && rejected > 300 && complete > 1_000, "{early} {rejected} {complete}");
     }
 
     #[test]

@@ -4,7 +4,9 @@
 //! Mesquite meshes when `../shared/meshes/mesquite` is present (CI-only; skipped otherwise).
 //!
 //! Per mesh, the output's inverted count may not exceed the recorded one and its minimum and
-//! average scaled Jacobian may not be lower than the recorded ones by more than `TOLERANCE`.
+//! average scaled Jacobian may not be lower than the recorded ones by more than `TOLERANCE`;
+//! the meshes on which the result is chaotic in the input's last bits (`CHAOTIC`) are judged
+//! by medians over perturbed copies instead of one run.
 //! The table (time, sweeps, min/avg after the sweeps and at the end against the floor, the
 //! max-min stage's share of the time) is printed with `--nocapture`; set
 //! `QUADOPT_FLOOR_PRINT=1` to print the rows in this file's format instead.
@@ -57,17 +59,58 @@ const DOCUMENTED_COST: &[(&str, usize, f64, f64)] = &[
 /// itself applies). Measured on the floor's commit (62376c1): graded anisotropic's input has a
 /// smallest edge ratio of 1.9e-3, the floor run's output 3.0e-5, today's 9.9e-4;
 /// shashkov_quad's 4.4e-3, 2.2e-6 and 1.8e-4 (its sweeps, before the max-min stage, make
-/// 1.7e-6). The values are today's default, whose max-min stage keeps every edge above its
-/// floor (see `EDGE_RATIO_KEPT`). Graded anisotropic's is the run on the normalization's grid
-/// (src/normalization.rs), the same at every scale; before the grid, the same mesh scaled by
-/// 0.001, 0.3, 0.7, 1, 1.3, 3, 7 and 1000 ended anywhere between min 0.023 and 0.038 and avg
-/// 0.440 and 0.528 (0.034/0.500 at scale 1): the max-min stage is chaotic in its input's last
-/// bits, and one value of that spread was no floor.
+/// 1.7e-6). Both are chaotic (see `CHAOTIC`): the values are the medians of the default run
+/// over each mesh and its perturbed copies, measured on commit d78ee5a, whose max-min stage
+/// keeps every edge above its floor (see `EDGE_RATIO_KEPT`). A single run's values, recorded
+/// before, were one draw of that spread (graded anisotropic's 0.035/0.476, the median of its
+/// copies 0.027/0.480).
 #[rustfmt::skip]
 const SQUASHED_FLOOR: &[(&str, f64, usize, f64, f64)] = &[
-    ("hard: graded anisotropic", 3.0e-5, 0, 0.035437, 0.475707),
-    ("mesquite: untangled/shashkov_quad.vtk", 2.2e-6, 0, 0.055321, 0.719781),
+    ("hard: graded anisotropic", 3.0e-5, 0, 0.027221, 0.480486),
+    ("mesquite: untangled/shashkov_quad.vtk", 2.2e-6, 0, 0.055084, 0.727321),
 ];
+
+/// Meshes on which the max-min stage is chaotic: every interior vertex moved by 1e-7 of its
+/// shortest edge (a change no user could see in the input) moves the output's minimum by up
+/// to 0.03 and its average by up to 0.14 (graded anisotropic; shashkov_quad 0.02 and 0.05;
+/// measured over 20 such copies, the spread is printed). One run of such a mesh says nothing
+/// about a change to the optimizer: it is judged by the medians over the mesh and
+/// `CHAOTIC_COPIES` copies, against floors recorded the same way (`SQUASHED_FLOOR`), within
+/// `CHAOTIC_TOLERANCE`.
+const CHAOTIC: &[&str] = &["hard: graded anisotropic", "mesquite: untangled/shashkov_quad.vtk"];
+
+/// Perturbed copies run for each chaotic mesh (with the mesh itself, an odd count).
+const CHAOTIC_COPIES: u64 = 20;
+
+/// What a chaotic mesh's medians may lose against their floor. The medians themselves move
+/// with the copies drawn: three sets of 20 copies gave minima within 0.003 and averages
+/// within 0.005 of each other on both meshes; this is twice or more that.
+const CHAOTIC_TOLERANCE: f64 = 0.01;
+
+/// The output statistics of the default run on `original` and `CHAOTIC_COPIES` copies whose
+/// interior vertices moved by 1e-7 of their shortest edge: (median inverted, min, avg) and
+/// the spread of min and avg.
+fn medians_over_copies(
+    original: &QuadMesh,
+    options: &Options,
+    first: &quadopt::QualityStats,
+) -> ((usize, f64, f64), f64, f64) {
+    let topo = Topology::new(original);
+    let mut runs = vec![*first];
+    for seed in 1..=CHAOTIC_COPIES {
+        let mut copy = jittered(original, &topo, 1e-7, seed);
+        runs.push(quadopt::optimize(&mut copy, options).unwrap().output);
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        (v[v.len() / 2], v[v.len() - 1] - v[0])
+    };
+    let mut inverted: Vec<usize> = runs.iter().map(|r| r.inverted).collect();
+    inverted.sort_unstable();
+    let (min, min_spread) = median(runs.iter().map(|r| r.min).collect());
+    let (avg, avg_spread) = median(runs.iter().map(|r| r.avg).collect());
+    ((inverted[inverted.len() / 2], min, avg), min_spread, avg_spread)
+}
 
 /// (mesh, inverted, min, avg) of the default run measured before the speed work.
 #[rustfmt::skip]
@@ -242,9 +285,19 @@ fn the_default_never_ends_below_the_recorded_floor() {
                 (inverted, min, avg) = (i, m, a);
             }
         }
+        let chaotic = CHAOTIC.contains(&name.as_str());
+        let tolerance = if chaotic { CHAOTIC_TOLERANCE } else { TOLERANCE };
         let below = |out: &quadopt::QualityStats, (inverted, min, avg): (usize, f64, f64)| {
-            out.inverted > inverted || out.min < min - TOLERANCE || out.avg < avg - TOLERANCE
+            out.inverted > inverted || out.min < min - tolerance || out.avg < avg - tolerance
         };
+        let mut out = out;
+        if chaotic {
+            let ((i, m, a), min_spread, avg_spread) = medians_over_copies(&original, &options, &out);
+            println!(
+                "    {name}: medians over it and {CHAOTIC_COPIES} copies {m:.6}/{a:.6} (spread {min_spread:.4}/{avg_spread:.4})"
+            );
+            (out.inverted, out.min, out.avg) = (i, m, a);
+        }
         let (floor_of_rule, energy_check) = match DOCUMENTED_COST.iter().find(|c| c.0 == name) {
             Some(&(_, i, m, a)) if options.stop == StopRule::Quality => ((i, m, a), true),
             _ => ((inverted, min, avg), false),

@@ -203,7 +203,7 @@ enum QuadoptStopRule
      * When the result stops improving (the default): checked every 5 sweeps, stop once the
      * kept iterate has not changed for 4 windows, or at the second window in a row that
      * repaired no inverted quad and whose shrinking gains leave less than 5e-3 of minimum and
-     * 1e-3 of average scaled Jacobian to come (their geometric tail).
+     * 4e-3 of average scaled Jacobian to come (their geometric tail).
      */
     QUADOPT_STOP_RULE_QUALITY = 1,
 };

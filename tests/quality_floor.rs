@@ -60,32 +60,35 @@ const DOCUMENTED_COST: &[(&str, usize, f64, f64)] = &[
 /// smallest edge ratio of 1.9e-3, the floor run's output 3.0e-5, today's 9.9e-4;
 /// shashkov_quad's 4.4e-3, 2.2e-6 and 1.8e-4 (its sweeps, before the max-min stage, make
 /// 1.7e-6). Both are chaotic (see `CHAOTIC`): the values are the medians of the default run
-/// over each mesh and its perturbed copies, measured on commit d78ee5a, whose max-min stage
+/// over each mesh and 80 perturbed copies, measured on commit e8ecb55, whose max-min stage
 /// keeps every edge above its floor (see `EDGE_RATIO_KEPT`). A single run's values, recorded
-/// before, were one draw of that spread (graded anisotropic's 0.035/0.476, the median of its
-/// copies 0.027/0.480).
+/// before, were one draw of that spread (graded anisotropic's 0.035/0.476). The stopping
+/// rule's average threshold of 4e-3 (e8ecb55, from 1e-3) cost graded anisotropic's median
+/// average about 0.012 (0.481 -> 0.468 over 20 copies; it stops after fewer sweeps), shashkov's
+/// 0.004: recorded here as a documented cost of the faster default (README, "Stopping rule").
 #[rustfmt::skip]
 const SQUASHED_FLOOR: &[(&str, f64, usize, f64, f64)] = &[
-    ("hard: graded anisotropic", 3.0e-5, 0, 0.027221, 0.480486),
-    ("mesquite: untangled/shashkov_quad.vtk", 2.2e-6, 0, 0.055084, 0.727321),
+    ("hard: graded anisotropic", 3.0e-5, 0, 0.029291, 0.468441),
+    ("mesquite: untangled/shashkov_quad.vtk", 2.2e-6, 0, 0.054205, 0.722514),
 ];
 
 /// Meshes on which the max-min stage is chaotic: every interior vertex moved by 1e-7 of its
 /// shortest edge (a change no user could see in the input) moves the output's minimum by up
-/// to 0.03 and its average by up to 0.14 (graded anisotropic; shashkov_quad 0.02 and 0.05;
-/// measured over 20 such copies, the spread is printed). One run of such a mesh says nothing
+/// to 0.03 and its average by up to 0.14 (graded anisotropic; shashkov_quad 0.02 and 0.04;
+/// measured over 80 such copies, the spread is printed). One run of such a mesh says nothing
 /// about a change to the optimizer: it is judged by the medians over the mesh and
-/// `CHAOTIC_COPIES` copies, against floors recorded the same way (`SQUASHED_FLOOR`), within
-/// `CHAOTIC_TOLERANCE`.
+/// `CHAOTIC_COPIES` copies, against floors recorded as the medians over 80 copies
+/// (`SQUASHED_FLOOR`), within `CHAOTIC_TOLERANCE`.
 const CHAOTIC: &[&str] = &["hard: graded anisotropic", "mesquite: untangled/shashkov_quad.vtk"];
 
 /// Perturbed copies run for each chaotic mesh (with the mesh itself, an odd count).
-const CHAOTIC_COPIES: u64 = 20;
+const CHAOTIC_COPIES: u64 = 40;
 
-/// What a chaotic mesh's medians may lose against their floor. The medians themselves move
-/// with the copies drawn: three sets of 20 copies gave minima within 0.003 and averages
-/// within 0.005 of each other on both meshes; this is twice or more that.
-const CHAOTIC_TOLERANCE: f64 = 0.01;
+/// What a chaotic mesh's medians may lose against their floor: about three standard errors
+/// of the noisiest one, graded anisotropic's average (its copies' averages have an
+/// interquartile range of 0.045, so the median of 41 has a standard error near 0.0065; the
+/// minima's are near 0.002).
+const CHAOTIC_TOLERANCE: f64 = 0.02;
 
 /// The output statistics of the default run on `original` and `CHAOTIC_COPIES` copies whose
 /// interior vertices moved by 1e-7 of their shortest edge: (median inverted, min, avg) and

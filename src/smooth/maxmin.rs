@@ -280,6 +280,9 @@ struct FixedPart {
 /// sign rules then decide (validity is judged exactly as in the statistics).
 const FAST_FLOOR: f64 = 1e-6;
 
+/// Positions [`Star::values_above`] evaluates together.
+const LANES: usize = 4;
+
 impl FixedPart {
     fn new(c: &[DVec2; 4], k: usize) -> FixedPart {
         let (prev, next, opposite) = (c[(k + 3) % 4], c[(k + 1) % 4], c[(k + 2) % 4]);
@@ -313,12 +316,7 @@ impl FixedPart {
         // NaN (a zero edge) fails this test too.
         (m >= FAST_FLOOR).then_some(m)
     }
-}
 
-/// Positions [`Star::values_above`] evaluates together.
-const LANES: usize = 4;
-
-impl FixedPart {
     /// For `LANES` positions of the moving corner: the squared lengths of its edges to the
     /// next and the previous corner, and the quad's fast value (unchecked: the caller applies
     /// `value_from`'s tests). The same operations in the same order as `MovingEdges::new`

@@ -139,7 +139,12 @@ impl BoundaryGeometry {
 
     /// Point of loop `l` at arclength `s` (taken modulo the loop length).
     pub fn eval(&self, l: usize, s: f64) -> DVec2 {
-        let (p0, p1, t) = self.segment_at(l, s);
+        self.point_on(self.segment_at(l, s))
+    }
+
+    /// The point a fraction `t` of the way along the segment between two slots' original
+    /// positions (as [`BoundaryGeometry::segment_at`] gives them).
+    fn point_on(&self, (p0, p1, t): (usize, usize, f64)) -> DVec2 {
         let (p0, p1) = (self.origin[p0], self.origin[p1]);
         if t == 0.0 {
             return p0;
@@ -161,11 +166,7 @@ impl BoundaryGeometry {
     pub fn eval_many(&self, l: usize, s: impl Iterator<Item = f64>, out: &mut Vec<DVec2>) {
         out.clear();
         let mut hint = usize::MAX;
-        out.extend(s.map(|s| {
-            let (p0, p1, t) = self.segment_near(l, s, &mut hint);
-            let (p0, p1) = (self.origin[p0], self.origin[p1]);
-            if t == 0.0 { p0 } else { p0 + (p1 - p0) * t }
-        }));
+        out.extend(s.map(|s| self.point_on(self.segment_near(l, s, &mut hint))));
     }
 
     /// [`BoundaryGeometry::segment_at`], trying first the segment at index `hint` of the loop

@@ -23,6 +23,10 @@ use rayon::prelude::*;
 /// than it saves (the result is the same either way, as a class is applied in order).
 const PARALLEL_MIN: usize = 2048;
 
+/// Vertices of a colour class handed out together: a parallel task's share, and the span
+/// within which interior targets are batched.
+const CHUNK: usize = 256;
+
 /// How much better snap's star must be for one-pass `Auto` to take it over slide's. Where the
 /// two candidates (nearly) coincide, on straight stretches, their stars differ by rounding
 /// only; a strict comparison would then pick by rounding, and the run would not be the same
@@ -146,12 +150,19 @@ impl RunContext<'_> {
                 {
                     let (pts, prm) = (&points[..], &params[..]);
                     let since = opts.guard.then_some(Since { slack: &slack, moved: &moved });
-                    let movable = |&&v: &&u32| self.features.is_movable(v as usize);
-                    let update = |&v: &u32| self.update(pts, prm, v as usize, loop_modes, since);
+                    let chunk_updates = |chunk: &[u32], out: &mut Vec<Update>| {
+                        self.chunk_updates(pts, prm, chunk, loop_modes, since, out);
+                    };
                     if class.len() >= PARALLEL_MIN {
-                        updates.par_extend(class.par_iter().filter(movable).map(update));
+                        updates.par_extend(class.par_chunks(CHUNK).flat_map_iter(|chunk| {
+                            let mut out = Vec::with_capacity(chunk.len());
+                            chunk_updates(chunk, &mut out);
+                            out
+                        }));
                     } else {
-                        updates.extend(class.iter().filter(movable).map(update));
+                        for chunk in class.chunks(CHUNK) {
+                            chunk_updates(chunk, &mut updates);
+                        }
                     }
                 }
                 // Sequential: the same sum whatever the thread count.
@@ -317,6 +328,52 @@ impl RunContext<'_> {
             .sum()
     }
 
+    /// The updates of the movable vertices of `chunk` (part of a colour class, at most
+    /// [`CHUNK`] vertices) into `out`, in order. Under the embedded polygon method, interior
+    /// vertices of valence 4 take their targets [`embedded_polygon::BATCH`] at a time (the
+    /// same bits as one by one).
+    fn chunk_updates(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        chunk: &[u32],
+        loop_modes: &[BoundaryMode],
+        since: Option<Since>,
+        out: &mut Vec<Update>,
+    ) {
+        const BATCH: usize = embedded_polygon::BATCH;
+        let mut targets = [None; CHUNK];
+        if self.options.method == Method::EmbeddedPolygon {
+            let (mut queue, mut queued) = ([0usize; BATCH], 0);
+            for (i, &v) in chunk.iter().enumerate() {
+                let v = v as usize;
+                if self.features.is_movable(v)
+                    && !self.features.is_boundary(v)
+                    && self.topo.ring(v).len() == 4
+                {
+                    queue[queued] = i;
+                    queued += 1;
+                }
+                if queued == BATCH {
+                    let vertices = queue.map(|i| chunk[i] as usize);
+                    let rings = vertices.map(|v| self.topo.ring(v).try_into().expect("valence 4"));
+                    for (&i, t) in
+                        queue.iter().zip(embedded_polygon::targets_of_four(points, vertices, rings))
+                    {
+                        targets[i] = Some(t);
+                    }
+                    queued = 0;
+                }
+            }
+        }
+        for (i, &v) in chunk.iter().enumerate() {
+            if self.features.is_movable(v as usize) {
+                out.push(self.update(points, params, v as usize, loop_modes, since, targets[i]));
+            }
+        }
+    }
+
+    /// Vertex `v`'s update; `target` is its interior target when already computed.
     fn update(
         &self,
         points: &[DVec2],
@@ -324,11 +381,12 @@ impl RunContext<'_> {
         v: usize,
         loop_modes: &[BoundaryMode],
         since: Option<Since>,
+        target: Option<(DVec2, f64)>,
     ) -> Update {
         let mut update = if self.features.is_boundary(v) {
             self.boundary_update(points, params, v, loop_modes, since)
         } else {
-            self.interior_update(points, v, since)
+            self.interior_update(points, v, since, target)
         };
         if since.is_some() {
             update.moved = guard::move_length(points[v], update.position);
@@ -336,19 +394,26 @@ impl RunContext<'_> {
         update
     }
 
-    /// An interior vertex: its method's target, through the guard.
-    fn interior_update(&self, points: &[DVec2], v: usize, since: Option<Since>) -> Update {
+    /// An interior vertex: its method's target (unless given), through the guard.
+    fn interior_update(
+        &self,
+        points: &[DVec2],
+        v: usize,
+        since: Option<Since>,
+        target: Option<(DVec2, f64)>,
+    ) -> Update {
         let opts = self.options;
         let ring = self.topo.ring(v);
-        let (target, energy) = match opts.method {
-            Method::EmbeddedPolygon => embedded_polygon::target(points, v, ring),
-            Method::Laplacian => {
+        let (target, energy) = match (target, opts.method) {
+            (Some(computed), _) => computed,
+            (None, Method::EmbeddedPolygon) => embedded_polygon::target(points, v, ring),
+            (None, Method::Laplacian) => {
                 (laplacian::uniform_target(points, ring), energy::vertex_energy(points, v, ring))
             }
-            Method::Cotangent => {
+            (None, Method::Cotangent) => {
                 (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
             }
-            Method::AngleBased => (
+            (None, Method::AngleBased) => (
                 angle_based::target(points, v, self.topo.full_ring(v)),
                 energy::vertex_energy(points, v, ring),
             ),

@@ -23,8 +23,7 @@ use rayon::prelude::*;
 /// than it saves (the result is the same either way, as a class is applied in order).
 const PARALLEL_MIN: usize = 2048;
 
-/// Vertices of a colour class handed out together: a parallel task's share, and the span
-/// within which interior targets are batched.
+/// Vertices of a colour class handed out together to a parallel task.
 const CHUNK: usize = 256;
 
 /// How much better snap's star must be for one-pass `Auto` to take it over slide's. Where the
@@ -160,9 +159,7 @@ impl RunContext<'_> {
                             out
                         }));
                     } else {
-                        for chunk in class.chunks(CHUNK) {
-                            chunk_updates(chunk, &mut updates);
-                        }
+                        chunk_updates(class, &mut updates);
                     }
                 }
                 // Sequential: the same sum whatever the thread count.
@@ -328,8 +325,8 @@ impl RunContext<'_> {
             .sum()
     }
 
-    /// The updates of the movable vertices of `chunk` (part of a colour class, at most
-    /// [`CHUNK`] vertices) into `out`, in order. Under the embedded polygon method, interior
+    /// The updates of the movable vertices of `chunk` (part of a colour class) into `out`, in
+    /// order. Under the embedded polygon method, interior
     /// vertices of valence 4 take their targets [`embedded_polygon::BATCH`] at a time (the
     /// same bits as one by one).
     fn chunk_updates(
@@ -342,34 +339,33 @@ impl RunContext<'_> {
         out: &mut Vec<Update>,
     ) {
         const BATCH: usize = embedded_polygon::BATCH;
-        let mut targets = [None; CHUNK];
-        if self.options.method == Method::EmbeddedPolygon {
-            let (mut queue, mut queued) = ([0usize; BATCH], 0);
-            for (i, &v) in chunk.iter().enumerate() {
-                let v = v as usize;
-                if self.features.is_movable(v)
-                    && !self.features.is_boundary(v)
-                    && self.topo.ring(v).len() == 4
-                {
-                    queue[queued] = i;
-                    queued += 1;
+        let batching = self.options.method == Method::EmbeddedPolygon;
+        // Batched vertices hold a place in `out` until their batch is full: (place, vertex).
+        let (mut queue, mut queued) = ([(0usize, 0usize); BATCH], 0);
+        for &v in chunk {
+            let v = v as usize;
+            if !self.features.is_movable(v) {
+                continue;
+            }
+            if !(batching && !self.features.is_boundary(v) && self.topo.ring(v).len() == 4) {
+                out.push(self.update(points, params, v, loop_modes, since, None));
+                continue;
+            }
+            queue[queued] = (out.len(), v);
+            out.push(Update::default());
+            queued += 1;
+            if queued == BATCH {
+                let vertices = queue.map(|(_, v)| v);
+                let rings = vertices.map(|v| self.topo.ring(v).try_into().expect("valence 4"));
+                let targets = embedded_polygon::targets_of_four(points, vertices, rings);
+                for (&(place, v), target) in queue.iter().zip(targets) {
+                    out[place] = self.update(points, params, v, loop_modes, since, Some(target));
                 }
-                if queued == BATCH {
-                    let vertices = queue.map(|i| chunk[i] as usize);
-                    let rings = vertices.map(|v| self.topo.ring(v).try_into().expect("valence 4"));
-                    for (&i, t) in
-                        queue.iter().zip(embedded_polygon::targets_of_four(points, vertices, rings))
-                    {
-                        targets[i] = Some(t);
-                    }
-                    queued = 0;
-                }
+                queued = 0;
             }
         }
-        for (i, &v) in chunk.iter().enumerate() {
-            if self.features.is_movable(v as usize) {
-                out.push(self.update(points, params, v as usize, loop_modes, since, targets[i]));
-            }
+        for &(place, v) in &queue[..queued] {
+            out[place] = self.update(points, params, v, loop_modes, since, None);
         }
     }
 

@@ -326,9 +326,8 @@ impl RunContext<'_> {
     }
 
     /// The updates of the movable vertices of `chunk` (part of a colour class) into `out`, in
-    /// order. Under the embedded polygon method, interior
-    /// vertices of valence 4 take their targets [`embedded_polygon::BATCH`] at a time (the
-    /// same bits as one by one).
+    /// order. Under the embedded polygon method, interior vertices of valence 4 take their
+    /// targets [`embedded_polygon::BATCH`] at a time (the same bits as one by one).
     fn chunk_updates(
         &self,
         points: &[DVec2],

@@ -25,8 +25,6 @@ pub enum VertexKind {
 #[derive(Clone, Debug)]
 pub struct Topology {
     kind: Vec<VertexKind>,
-    /// Number of quads incident to each vertex.
-    quad_count: Vec<u32>,
     ring_offsets: Vec<u32>,
     /// Edge-neighbours, counter-clockwise. For a boundary vertex the first is the next vertex
     /// along its boundary loop and the last the previous one.
@@ -96,7 +94,6 @@ impl Topology {
         drop(fill);
 
         let mut kind = try_filled(n, VertexKind::Unused, "topology: vertex kinds")?;
-        let mut quad_count = try_filled(n, 0u32, "topology: quad counts")?;
         let mut ring_offsets = try_with_capacity(n + 1, "topology: ring offsets")?;
         let mut ring = try_with_capacity(quads.len() * 4 + n, "topology: rings")?;
         let mut full_offsets = try_with_capacity(n + 1, "topology: full ring offsets")?;
@@ -109,7 +106,6 @@ impl Topology {
         full_offsets.push(0);
         for v in 0..n {
             let incident = &vertex_quads[quad_offsets[v] as usize..quad_offsets[v + 1] as usize];
-            quad_count[v] = incident.len() as u32;
             wedges.clear();
             wedges.extend(incident.iter().map(|&qi| wedge(&quads[qi as usize], v)));
             kind[v] = chain_wedges(&wedges, &mut scratch);
@@ -142,7 +138,6 @@ impl Topology {
         let (colour_offsets, colours) = colour_classes(&kind, &full_offsets, &full_ring)?;
         Ok(Topology {
             kind,
-            quad_count,
             ring_offsets,
             ring,
             full_offsets,
@@ -179,7 +174,7 @@ impl Topology {
 
     /// Number of quads incident to vertex `v`.
     pub fn quad_count(&self, v: usize) -> usize {
-        self.quad_count[v] as usize
+        (self.quad_offsets[v + 1] - self.quad_offsets[v]) as usize
     }
 
     /// Edge-neighbours of `v`, counter-clockwise (the corners of its embedded polygon).

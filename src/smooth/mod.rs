@@ -276,8 +276,13 @@ impl Optimizer {
         // `Optimizer::run` has checked the mesh against the topology.
         let topo = &self.topology;
         let start = Instant::now();
-        let input_values = mesh.quality_values();
-        let input = QualityStats::from_values(&input_values);
+        // Only the statistics and the inverted flags outlive this: the values are 8 bytes a
+        // quad that the sweeps would otherwise hold for nothing.
+        let (input, input_inverted) = {
+            let input_values = mesh.quality_values();
+            let inverted: Vec<bool> = input_values.iter().map(|&v| v <= 0.0).collect();
+            (QualityStats::from_values(&input_values), inverted)
+        };
         let boundary_moves = options.boundary != BoundaryMode::Fixed;
         let features = Features::new(mesh, topo, options.feature_angle_deg, boundary_moves);
         let geometry = BoundaryGeometry::new(mesh.points(), topo, &features);
@@ -288,7 +293,7 @@ impl Optimizer {
             options,
             quads: mesh.quads(),
             input,
-            input_inverted: input_values.iter().map(|&v| v <= 0.0).collect(),
+            input_inverted,
             floor: options.guard_floor.max(input.min),
         };
         let (mut pass, loop_modes) = if options.boundary == BoundaryMode::Auto {

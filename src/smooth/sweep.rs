@@ -32,6 +32,12 @@ const CHUNK: usize = 256;
 /// after a scaling or a translation of the mesh.
 const AUTO_TIE: f64 = 1e-9;
 
+impl Update {
+    /// The place of a vertex that does not move.
+    const NONE: Update =
+        Update { vertex: u32::MAX, position: DVec2::ZERO, param: 0.0, energy: 0.0, moved: 0.0 };
+}
+
 /// Per-vertex result of a sweep.
 #[derive(Clone, Copy, Debug, Default)]
 struct Update {
@@ -145,25 +151,26 @@ impl RunContext<'_> {
             moved.fill(0.0);
             for c in 0..self.topo.colour_count() {
                 let class = self.topo.colour_class(c);
+                // One update per class member, written in place (no per-chunk buffers).
                 updates.clear();
+                updates.resize(class.len(), Update::NONE);
                 {
                     let (pts, prm) = (&points[..], &params[..]);
                     let since = opts.guard.then_some(Since { slack: &slack, moved: &moved });
-                    let chunk_updates = |chunk: &[u32], out: &mut Vec<Update>| {
+                    let chunk_updates = |chunk: &[u32], out: &mut [Update]| {
                         self.chunk_updates(pts, prm, chunk, loop_modes, since, out);
                     };
                     if class.len() >= PARALLEL_MIN {
-                        updates.par_extend(class.par_chunks(CHUNK).flat_map_iter(|chunk| {
-                            let mut out = Vec::with_capacity(chunk.len());
-                            chunk_updates(chunk, &mut out);
-                            out
-                        }));
+                        class
+                            .par_chunks(CHUNK)
+                            .zip(updates.par_chunks_mut(CHUNK))
+                            .for_each(|(chunk, out)| chunk_updates(chunk, out));
                     } else {
                         chunk_updates(class, &mut updates);
                     }
                 }
                 // Sequential: the same sum whatever the thread count.
-                for u in &updates {
+                for u in updates.iter().filter(|u| u.vertex != Update::NONE.vertex) {
                     energy += u.energy;
                     any_moved |= points[u.vertex as usize] != u.position;
                     points[u.vertex as usize] = u.position;
@@ -325,9 +332,10 @@ impl RunContext<'_> {
             .sum()
     }
 
-    /// The updates of the movable vertices of `chunk` (part of a colour class) into `out`, in
-    /// order. Under the embedded polygon method, interior vertices of valence 4 take their
-    /// targets [`embedded_polygon::BATCH`] at a time (the same bits as one by one).
+    /// The updates of the vertices of `chunk` (part of a colour class) into `out` (as long as
+    /// `chunk`, filled with [`Update::NONE`]), in order; vertices that may not move keep
+    /// `Update::NONE`. Under the embedded polygon method, interior vertices of valence 4 take
+    /// their targets [`embedded_polygon::BATCH`] at a time (the same bits as one by one).
     fn chunk_updates(
         &self,
         points: &[DVec2],
@@ -335,23 +343,22 @@ impl RunContext<'_> {
         chunk: &[u32],
         loop_modes: &[BoundaryMode],
         since: Option<Since>,
-        out: &mut Vec<Update>,
+        out: &mut [Update],
     ) {
         const BATCH: usize = embedded_polygon::BATCH;
         let batching = self.options.method == Method::EmbeddedPolygon;
-        // Batched vertices hold a place in `out` until their batch is full: (place, vertex).
+        // Batched vertices wait until their batch is full: (place in `out`, vertex).
         let (mut queue, mut queued) = ([(0usize, 0usize); BATCH], 0);
-        for &v in chunk {
+        for (place, &v) in chunk.iter().enumerate() {
             let v = v as usize;
             if !self.features.is_movable(v) {
                 continue;
             }
             if !(batching && !self.features.is_boundary(v) && self.topo.ring(v).len() == 4) {
-                out.push(self.update(points, params, v, loop_modes, since, None));
+                out[place] = self.update(points, params, v, loop_modes, since, None);
                 continue;
             }
-            queue[queued] = (out.len(), v);
-            out.push(Update::default());
+            queue[queued] = (place, v);
             queued += 1;
             if queued == BATCH {
                 let vertices = queue.map(|(_, v)| v);

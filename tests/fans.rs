@@ -93,7 +93,7 @@ fn a_cancel_at_a_later_call_keeps_the_untangled_fan() {
 /// Checks the rings of a fan of `n` quads around vertex 0 built by [`tangled_fan`] (its
 /// geometry does not matter here), whose quad `i` is (0, a_i, d_i, a_i+1) with a_i = 1 + 2i
 /// and d_i = 2 + 2i, when only its first `kept` quads are kept.
-fn check_fan_rings(t: &Topology, n: u32, kept: u32) {
+fn check_fan_rings(t: &Topology, quads: &[[u32; 4]], n: u32, kept: u32) {
     let a = |i: u32| 1 + 2 * (i % n);
     let d = |i: u32| 2 + 2 * (i % n);
     let closed = kept == n;
@@ -105,7 +105,8 @@ fn check_fan_rings(t: &Topology, n: u32, kept: u32) {
     assert_eq!(ring.len(), kept as usize + usize::from(!closed));
     let s = if closed { ring.iter().position(|&v| v == a(0)).unwrap() as u32 } else { 0 };
     assert!(ring.iter().enumerate().all(|(k, &v)| v == a(k as u32 + s)), "ring of the centre");
-    let full = t.full_ring(0);
+    let mut full = Vec::new();
+    t.full_ring_into(quads, 0, &mut full);
     assert_eq!(full.len(), 2 * kept as usize + usize::from(!closed));
     for (k, &v) in full.iter().enumerate() {
         let i = k as u32 / 2 + s;
@@ -115,7 +116,8 @@ fn check_fan_rings(t: &Topology, n: u32, kept: u32) {
     for i in 1..kept {
         assert_eq!(t.kind(a(i) as usize), VertexKind::Boundary);
         assert_eq!(t.ring(a(i) as usize), &[d(i), 0, d(i + n - 1)]);
-        assert_eq!(t.full_ring(a(i) as usize), &[d(i), a(i + 1), 0, a(i + n - 1), d(i + n - 1)]);
+        t.full_ring_into(quads, a(i) as usize, &mut full);
+        assert_eq!(full, &[d(i), a(i + 1), 0, a(i + n - 1), d(i + n - 1)]);
     }
     for i in 0..kept {
         assert_eq!(t.ring(d(i) as usize), &[a(i + 1), a(i)]);
@@ -151,7 +153,7 @@ fn topology_of_a_fan_of_200k_quads() {
     let n = 200_000;
     let mesh = tangled_fan(n, 1.0);
     let t = Topology::try_new(&mesh).unwrap();
-    check_fan_rings(&t, n, n);
+    check_fan_rings(&t, mesh.quads(), n, n);
     // One boundary loop, interior on the left: a_0, d_0, a_1, d_1, ...
     assert_eq!(t.loop_count(), 1);
     let l = t.boundary_loop(0);
@@ -172,7 +174,7 @@ fn topology_of_an_open_fan_of_200k_quads() {
     let quads = full.quads()[..n as usize - 1].to_vec();
     let mesh = QuadMesh::new(full.points().to_vec(), quads, None).unwrap();
     let t = Topology::new(&mesh);
-    check_fan_rings(&t, n, n - 1);
+    check_fan_rings(&t, mesh.quads(), n, n - 1);
     assert_eq!(t.loop_count(), 1);
     // Centre, a_0, d_0, ..., d_n-2, a_n-1: every vertex once, in index order.
     assert!(t.boundary_loop(0).iter().copied().eq(0..2 * n), "boundary loop order");

@@ -147,18 +147,24 @@ pub fn stats_and_slack(
 /// that `slack` was computed for ([`stats_and_slack`]), given how far each vertex has moved
 /// since (`moved`, [`move_length`]): then [`star_at_least`] would say so too, and need not
 /// run. `false` means only "not certain". `v` must be a vertex with a ring (interior or
-/// boundary, not non-manifold): its full ring then holds every other vertex of its quads.
+/// boundary, not non-manifold), not moved yet in this sweep (`moved[v]` is 0, so reading it
+/// with the other corners of its quads changes nothing).
 pub fn certainly_at_least(
     points: &[DVec2],
+    quads: &[[u32; 4]],
     topo: &Topology,
     v: usize,
     target: DVec2,
     slack: &[f32],
     moved: &[f32],
 ) -> bool {
-    let most =
-        topo.full_ring(v).iter().map(|&u| moved[u as usize]).fold(move_length(points[v], target), f32::max);
-    topo.vertex_quads(v).iter().all(|&qi| most < slack[qi as usize])
+    let star = topo.vertex_quads(v);
+    let most = star
+        .iter()
+        .flat_map(|&qi| quads[qi as usize])
+        .map(|u| moved[u as usize])
+        .fold(move_length(points[v], target), f32::max);
+    star.iter().all(|&qi| most < slack[qi as usize])
 }
 
 /// The position actually taken by `v` when it wants to go to `target`: the target itself if
@@ -308,7 +314,7 @@ mod tests {
                 moved[u] = move_length(start[u], points[u]);
             }
             let target = points[4] + step * DVec2::new(rnd(), rnd());
-            if certainly_at_least(&points, &t, 4, target, &slack, &moved) {
+            if certainly_at_least(&points, m.quads(), &t, 4, target, &slack, &moved) {
                 assert!(star_at_least(&points, m.quads(), &t, 4, target, floor));
                 certain += 1;
             }

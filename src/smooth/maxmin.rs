@@ -783,7 +783,7 @@ fn interior_move(
     let current = star.value(p);
     // Extent of the star: the largest offsets to the ring's vertices, per axis (as DMO).
     let mut extent = DVec2::ZERO;
-    for &u in topo.full_ring(v) {
+    for u in topo.star_vertices(ctx.quads, v) {
         extent = extent.max((points[u as usize] - p).abs());
     }
     if !(extent.x > 0.0 || extent.y > 0.0) || !extent.is_finite() {
@@ -1009,7 +1009,7 @@ fn sweep(
             // Every search whose star contains v now sees another star.
             marks.settled[v] = false;
             marks.settled_average[v] = false;
-            for &u in ctx.topo.full_ring(v) {
+            for u in ctx.topo.star_vertices(ctx.quads, v) {
                 marks.settled[u as usize] = false;
                 marks.settled_average[u as usize] = false;
             }
@@ -1198,7 +1198,7 @@ pub fn max_min_stage(
     for _ in 0..settings.average_sweeps {
         let mut was_moved = marks.moved.clone();
         for v in (0..points.len()).filter(|&v| marks.moved[v]) {
-            for &u in topo.full_ring(v) {
+            for u in topo.star_vertices(quads, v) {
                 was_moved[u as usize] = true;
             }
         }

@@ -415,10 +415,11 @@ impl RunContext<'_> {
             (None, Method::Cotangent) => {
                 (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
             }
-            (None, Method::AngleBased) => (
-                angle_based::target(points, v, self.topo.full_ring(v)),
-                energy::vertex_energy(points, v, ring),
-            ),
+            (None, Method::AngleBased) => {
+                let mut full_ring = Vec::with_capacity(2 * ring.len());
+                self.topo.full_ring_into(self.quads, v, &mut full_ring);
+                (angle_based::target(points, v, &full_ring), energy::vertex_energy(points, v, ring))
+            }
         };
         let p = points[v];
         let moved = p + opts.lambda * (target - p);
@@ -435,7 +436,9 @@ impl RunContext<'_> {
     /// Whether moving `v` to `target` certainly keeps its star at or above the guard's floor,
     /// from the sweep's slack (false without one).
     fn certainly_at_least(&self, points: &[DVec2], v: usize, target: DVec2, since: Option<Since>) -> bool {
-        since.is_some_and(|s| guard::certainly_at_least(points, self.topo, v, target, s.slack, s.moved))
+        since.is_some_and(|s| {
+            guard::certainly_at_least(points, self.quads, self.topo, v, target, s.slack, s.moved)
+        })
     }
 
     /// A boundary vertex: its loop's approach's candidate, accepted whole or not at all, since

@@ -368,7 +368,7 @@ fn untangle_vertex_interruptible(
     // optimum on the box (when the star cannot be fully untangled from here) never lands
     // exactly on a neighbour's coordinates and degenerates an edge.
     let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for &u in topo.full_ring(v) {
+    for u in topo.star_vertices(quads, v) {
         lo = lo.min(points[u as usize]);
         hi = hi.max(points[u as usize]);
     }

@@ -752,10 +752,10 @@ fn default_options() -> QuadoptOptions {
 // Memory the topology and the optimizer need.
 
 /// Peak bytes of building the optimizer, per vertex or quad (whichever is more) and fixed:
-/// measured by tests/memory.rs at up to about 107 per element, 140 for a mesh large enough
+/// measured by tests/memory.rs at up to about 56 per element, 97 for a mesh large enough
 /// to be renumbered (its copy in the internal order is alive while its topology is built),
 /// with room to spare.
-const TOPOLOGY_BYTES_PER_ELEMENT: u128 = 168;
+const TOPOLOGY_BYTES_PER_ELEMENT: u128 = 120;
 const TOPOLOGY_BYTES_FIXED: u128 = 64 << 10;
 /// Peak bytes of a run beyond the mesh and its topology, per vertex or quad, per boundary
 /// edge and fixed: measured at up to about 135 per element plus 40 per boundary edge on

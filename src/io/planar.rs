@@ -233,8 +233,6 @@ pub struct PlanarMesh {
     pub mesh: QuadMesh,
     /// The plane and its 2D frame.
     pub frame: PlanarFrame,
-    /// 2D positions before optimization, to find the vertices that moved.
-    initial: Vec<DVec2>,
 }
 
 impl PlanarMesh {
@@ -248,27 +246,38 @@ impl PlanarMesh {
             }
         }
         let frame = PlanarFrame::fit(&data.points, Some(&used))?;
-        let initial: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
-        let mesh = QuadMesh::new(initial.clone(), data.quads.clone(), data.fixed.clone())?;
-        Ok(PlanarMesh { mesh, frame, initial })
+        let points: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
+        let mesh = QuadMesh::new(points, data.quads.clone(), data.fixed.clone())?;
+        Ok(PlanarMesh { mesh, frame })
     }
 
-    /// Indices of the vertices whose 2D position differs (bitwise) from the initial one.
-    pub fn moved(&self) -> Vec<usize> {
-        let same = |a: DVec2, b: DVec2| a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits();
-        (0..self.initial.len()).filter(|&i| !same(self.initial[i], self.mesh.points()[i])).collect()
+    /// Indices of the vertices whose 2D position differs (bitwise) from their position in
+    /// `data`, the mesh this was built from (before [`PlanarMesh::write_back`]). The initial
+    /// positions are not kept (16 bytes a vertex): they are the plane image of `data`'s.
+    pub fn moved(&self, data: &MeshData) -> Vec<usize> {
+        (0..self.mesh.points().len()).filter(|&i| self.has_moved(data, i)).collect()
     }
 
-    /// Writes the optimized positions back into `data` (the mesh this was built from): moved
-    /// vertices get their point of the plane, every other vertex keeps its original
-    /// coordinates bit for bit; the quads become [`QuadMesh::quads_as_given`] (consistently
-    /// oriented, in the handedness of the input).
-    pub fn write_back(&self, data: &mut MeshData) {
-        for i in self.moved() {
-            if let Some(p) = data.points.get_mut(i) {
-                *p = self.frame.to_3d(self.mesh.points()[i]);
+    /// Whether vertex `i` is no longer where `data` puts it.
+    fn has_moved(&self, data: &MeshData, i: usize) -> bool {
+        let (now, was) = (self.mesh.points()[i], data.points.get(i).map(|&p| self.frame.to_2d(p)));
+        was.is_none_or(|was| now.x.to_bits() != was.x.to_bits() || now.y.to_bits() != was.y.to_bits())
+    }
+
+    /// Writes the optimized positions back into `data` (the mesh this was built from) and
+    /// returns how many vertices moved: moved vertices get their point of the plane, every
+    /// other vertex keeps its original coordinates bit for bit; the quads become
+    /// [`QuadMesh::quads_as_given`] (consistently oriented, in the handedness of the input),
+    /// so `data.quads` need not be kept meanwhile.
+    pub fn write_back(&self, data: &mut MeshData) -> usize {
+        let mut moved = 0;
+        for i in 0..self.mesh.points().len().min(data.points.len()) {
+            if self.has_moved(data, i) {
+                data.points[i] = self.frame.to_3d(self.mesh.points()[i]);
+                moved += 1;
             }
         }
         data.quads = self.mesh.quads_as_given();
+        moved
     }
 }

@@ -158,12 +158,15 @@ pub fn certainly_at_least(
     slack: &[f32],
     moved: &[f32],
 ) -> bool {
+    // A plain comparison (one instruction; f32::max's NaN rule takes three), each quad's
+    // corners reduced as a tree: the chain of dependent maxima is what this costs.
+    let larger = |a: f32, b: f32| if a > b { a } else { b };
     let star = topo.vertex_quads(v);
-    let most = star
-        .iter()
-        .flat_map(|&qi| quads[qi as usize])
-        .map(|u| moved[u as usize])
-        .fold(move_length(points[v], target), f32::max);
+    let most = star.iter().fold(move_length(points[v], target), |most, &qi| {
+        let q = &quads[qi as usize];
+        let [a, b, c, d] = q.map(|u| moved[u as usize]);
+        larger(most, larger(larger(a, b), larger(c, d)))
+    });
     star.iter().all(|&qi| most < slack[qi as usize])
 }
 

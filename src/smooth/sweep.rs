@@ -32,12 +32,6 @@ const CHUNK: usize = 256;
 /// after a scaling or a translation of the mesh.
 const AUTO_TIE: f64 = 1e-9;
 
-impl Update {
-    /// The place of a vertex that does not move.
-    const NONE: Update =
-        Update { vertex: u32::MAX, position: DVec2::ZERO, param: 0.0, energy: 0.0, moved: 0.0 };
-}
-
 /// Per-vertex result of a sweep.
 #[derive(Clone, Copy, Debug, Default)]
 struct Update {
@@ -49,6 +43,12 @@ struct Update {
     energy: f64,
     /// How far it moved ([`guard::move_length`]; 0 without the guard).
     moved: f32,
+}
+
+impl Update {
+    /// The place of a vertex that does not move.
+    const NONE: Update =
+        Update { vertex: u32::MAX, position: DVec2::ZERO, param: 0.0, energy: 0.0, moved: 0.0 };
 }
 
 /// Result of a pass.

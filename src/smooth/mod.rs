@@ -357,7 +357,6 @@ struct OnPolyline {
     t: f64,
 }
 
-/// Per quad, whether its scaled Jacobian is positive, zero or negative (NaN: none).
 /// Puts the interior vertices of every quad below `bar` back at their `original` positions,
 /// round after round while that changes anything (at most a few rounds): each such vertex was
 /// within the grid's rounding of a position that kept its quads at or above `bar`. Boundary
@@ -385,6 +384,7 @@ fn restore_quads_below(mesh: &mut QuadMesh, original: &[DVec2], topo: &Topology,
     }
 }
 
+/// Per quad, whether its scaled Jacobian is positive, zero or negative (NaN: none).
 fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::cmp::Ordering>>> {
     let mut classes = crate::alloc::try_with_capacity(quads.len(), "quad sign classes")?;
     classes.par_extend(

@@ -493,3 +493,74 @@ fn the_max_min_stage_and_the_stopping_rule_are_chosen_on_the_command_line() {
     assert_eq!(tau["iterations"], energy["iterations"], "--tau implies --stop energy");
     fails(&["optimize", s(&input), "-o", s(&output), "--stop", "never"], 2, "unknown stopping rule", None);
 }
+
+/// The `count` values after the line `header` of `text` (a VTK `SCALARS` block after its
+/// `LOOKUP_TABLE` line, or an MSH view's `tag value` lines after its tags), as written.
+fn array_after(text: &str, header: &str, skip: usize, count: usize) -> Vec<String> {
+    let start = text.find(header).unwrap_or_else(|| panic!("no {header:?} in the file"));
+    let lines = text[start..].lines().skip(1 + skip).take(count);
+    lines.map(|l| l.split_whitespace().last().unwrap().to_string()).collect()
+}
+
+#[test]
+fn outputs_carry_the_quality_and_the_fixed_and_corner_flags() {
+    let dir = scratch("annotated");
+    let mut mesh = jittered_grid(6);
+    let n = mesh.points.len();
+    let fixed: Vec<bool> = (0..n).map(|i| i == 8 || i == 24).collect();
+    mesh.fixed = Some(fixed.clone());
+    let input = dir.join("in.vtk");
+    io::write_mesh(&input, &mesh).unwrap();
+    // The grid's four corners are its only corners (a square's boundary turns nowhere else).
+    let corners: Vec<bool> = (0..n).map(|i| [0, 6, 42, 48].contains(&i)).collect();
+    let flag = |f: &[bool]| f.iter().map(|&b| u8::from(b).to_string()).collect::<Vec<_>>();
+    for ext in ["vtk", "msh"] {
+        let output = dir.join(format!("out.{ext}"));
+        let out = quadopt(&["optimize", s(&input), "-o", s(&output)]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = std::fs::read_to_string(&output).unwrap();
+        // The per-quad values are the signed scaled Jacobians of the written coordinates,
+        // bit for bit (shortest round-trip formatting).
+        let back = io::read_mesh(&output).unwrap();
+        let planar = io::PlanarMesh::new(&back).unwrap();
+        let expected: Vec<String> = planar.mesh.quality_values().iter().map(|v| format!("{v:?}")).collect();
+        let m = back.quads.len();
+        let (quality, fixed_read, corner_read) = if ext == "vtk" {
+            (
+                array_after(&text, "SCALARS scaled_jacobian double 1", 1, m),
+                array_after(&text, "SCALARS fixed int 1", 1, n),
+                array_after(&text, "SCALARS corner int 1", 1, n),
+            )
+        } else {
+            // A view: its name, one real tag, three integer tags, then `tag value` lines.
+            (
+                array_after(&text, "\"scaled_jacobian\"", 6, m),
+                array_after(&text, "\"fixed\"", 6, n),
+                array_after(&text, "\"corner\"", 6, n),
+            )
+        };
+        assert_eq!(quality, expected, "{ext}: scaled_jacobian");
+        assert_eq!(fixed_read, flag(&fixed), "{ext}: fixed");
+        assert_eq!(corner_read, flag(&corners), "{ext}: corner");
+        // The readers skip the arrays they do not use and keep reading `fixed` (VTK).
+        assert_eq!(back.quads, mesh.quads);
+        if ext == "vtk" {
+            assert_eq!(back.fixed.as_ref(), Some(&fixed));
+        }
+    }
+    // `quality IN -o OUT` writes the input's values, with the mesh unchanged.
+    let output = dir.join("quality.vtk");
+    let out = quadopt(&["quality", s(&input), "-o", s(&output)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&output).unwrap();
+    let planar = io::PlanarMesh::new(&mesh).unwrap();
+    let expected: Vec<String> = planar.mesh.quality_values().iter().map(|v| format!("{v:?}")).collect();
+    assert!(expected.iter().any(|v| v.starts_with('-')), "the input has inverted quads, written signed");
+    assert_eq!(array_after(&text, "SCALARS scaled_jacobian double 1", 1, mesh.quads.len()), expected);
+    let back = io::read_mesh(&output).unwrap();
+    assert_eq!(
+        back.points.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>(),
+        mesh.points.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

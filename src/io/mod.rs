@@ -27,6 +27,12 @@
 //!   any other element (triangles, higher-order quads, volumes) is an error.
 //!
 //! Vertices used by no quad are kept as they are, in their place.
+//!
+//! # What is written besides the mesh
+//! [`MeshData::quality`] as cell data `scaled_jacobian` and [`MeshData::fixed`] and
+//! [`MeshData::corner`] as 0/1 point data of those names: VTK `CELL_DATA` / `POINT_DATA`
+//! `SCALARS`, MSH `$ElementData` / `$NodeData` views (element and node tags are the 1-based
+//! indices the writers number them by). OBJ and OFF carry none of them.
 
 pub mod output;
 pub mod planar;
@@ -165,6 +171,27 @@ pub struct MeshData {
     pub msh_version: Option<MshVersion>,
     /// Whether a VTK file was `POLYDATA` (written back as such when writing VTK).
     pub vtk_polydata: bool,
+    /// Per-quad signed scaled Jacobian, written as cell data `scaled_jacobian` (VTK/VTU
+    /// `CELL_DATA`, MSH `$ElementData`); readers leave it `None` (they ignore the array).
+    pub quality: Option<Vec<f64>>,
+    /// Per-vertex corner flags, written as point data `corner`; readers leave it `None`.
+    pub corner: Option<Vec<bool>>,
+    /// How the file stored its data (written back the same way where the format allows).
+    pub encoding: Encoding,
+    /// Whether a VTU file's data blocks were zlib-compressed (written back the same way).
+    pub compressed: bool,
+}
+
+/// How a format with several encodings stores its data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// Text.
+    #[default]
+    Ascii,
+    /// Binary: MSH's `Mesh.Binary=1`; VTU's inline base64 `format="binary"`.
+    Binary,
+    /// VTU's appended raw data (`<AppendedData encoding="raw">`); MSH treats it as `Binary`.
+    Appended,
 }
 
 impl MeshData {
@@ -192,6 +219,13 @@ impl MeshData {
         }
         if let Some(got) = self.fixed.as_ref().map(Vec::len).filter(|&len| len != n) {
             return Err(crate::Error::FixedLengthMismatch { expected: n, got }.into());
+        }
+        if let Some(got) = self.corner.as_ref().map(Vec::len).filter(|&len| len != n) {
+            return Err(IoError::Unsupported(format!("{got} corner flags for {n} points")));
+        }
+        let m = self.quads.len();
+        if let Some(got) = self.quality.as_ref().map(Vec::len).filter(|&len| len != m) {
+            return Err(IoError::Unsupported(format!("{got} quality values for {m} quads")));
         }
         Ok(())
     }

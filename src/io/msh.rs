@@ -139,7 +139,14 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     for (line, element, q) in raw {
         try_push(&mut quads, resolve(&tags, line, element, q)?, "quads")?;
     }
-    Ok(MeshData { points, quads, fixed: None, msh_version: Some(version), vtk_polydata: false })
+    Ok(MeshData {
+        points,
+        quads,
+        fixed: None,
+        msh_version: Some(version),
+        vtk_polydata: false,
+        ..MeshData::default()
+    })
 }
 
 fn err(t: Tok<'_>, message: String) -> IoError {
@@ -375,6 +382,33 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
             }
             writeln!(w, "$EndElements")?;
         }
+    }
+    write_views(w, data)
+}
+
+/// The quality and the flags as post-processing views, which gmsh shows by name: an
+/// `$ElementData` view `scaled_jacobian` (element tags are the quads' 1-based indices, as
+/// both writers number them) and `$NodeData` views `fixed` and `corner` (0 or 1).
+fn write_views(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
+    let header = |w: &mut dyn Write, section: &str, name: &str, count: usize| {
+        // One string tag (the name), one real tag (the time), three integer tags (time step,
+        // components, entities).
+        writeln!(w, "${section}\n1\n\"{name}\"\n1\n0.0\n3\n0\n1\n{count}")
+    };
+    if let Some(quality) = &data.quality {
+        header(w, "ElementData", "scaled_jacobian", quality.len())?;
+        for (i, &v) in quality.iter().enumerate() {
+            writeln!(w, "{} {}", i + 1, Num(v))?;
+        }
+        writeln!(w, "$EndElementData")?;
+    }
+    for (name, flags) in [("fixed", &data.fixed), ("corner", &data.corner)] {
+        let Some(flags) = flags else { continue };
+        header(w, "NodeData", name, flags.len())?;
+        for (i, &f) in flags.iter().enumerate() {
+            writeln!(w, "{} {}", i + 1, u8::from(f))?;
+        }
+        writeln!(w, "$EndNodeData")?;
     }
     Ok(())
 }

@@ -275,7 +275,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     if let Some(len) = fixed.as_ref().map(Vec::len).filter(|&len| len != n) {
         return Err(lex.error(format!("the fixed array has {len} values for {n} points")));
     }
-    Ok(MeshData { points, quads, fixed, msh_version: None, vtk_polydata: polydata })
+    Ok(MeshData { points, quads, fixed, msh_version: None, vtk_polydata: polydata, ..MeshData::default() })
 }
 
 fn parse_err(t: Tok<'_>, message: String) -> IoError {
@@ -452,11 +452,23 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
             writeln!(w, "{VTK_QUAD}")?;
         }
     }
-    if let Some(fixed) = &data.fixed {
-        writeln!(w, "POINT_DATA {}", data.points.len())?;
-        writeln!(w, "SCALARS fixed int 1")?;
+    if let Some(quality) = &data.quality {
+        writeln!(w, "CELL_DATA {m}")?;
+        writeln!(w, "SCALARS scaled_jacobian double 1")?;
         writeln!(w, "LOOKUP_TABLE default")?;
-        for &f in fixed {
+        for &v in quality {
+            writeln!(w, "{}", Num(v))?;
+        }
+    }
+    let flags = [("fixed", &data.fixed), ("corner", &data.corner)];
+    if flags.iter().any(|(_, f)| f.is_some()) {
+        writeln!(w, "POINT_DATA {}", data.points.len())?;
+    }
+    for (name, values) in flags {
+        let Some(values) = values else { continue };
+        writeln!(w, "SCALARS {name} int 1")?;
+        writeln!(w, "LOOKUP_TABLE default")?;
+        for &f in values {
             writeln!(w, "{}", u8::from(f))?;
         }
     }

@@ -109,6 +109,13 @@ enum Command {
     Quality {
         /// Input mesh.
         input: PathBuf,
+        /// Also write the mesh with its per-quad scaled Jacobian as cell data and its fixed
+        /// and corner flags as point data (VTK, MSH); `-` writes to stdout.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        #[arg(long, value_parser = parse_format, requires = "output")]
+        format: Option<Format>,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -313,7 +320,9 @@ fn dispatch(command: Option<Command>) -> Result<(), Fail> {
         Some(Command::Optimize { input, output, format, opts, json }) => {
             cmd_optimize(&input, &output, format, &opts, json)
         }
-        Some(Command::Quality { input, json }) => cmd_quality(&input, json),
+        Some(Command::Quality { input, output, format, json }) => {
+            cmd_quality(&input, output.as_deref(), format, json)
+        }
         Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
         Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
         Some(Command::Generate { output, format, quads, nx, ny, holes, hole_size, jitter, seed }) => {
@@ -497,6 +506,8 @@ fn cmd_optimize(
         Some(output_format(output, format, Format::from_path(input).ok())?)
     };
     let Loaded { mut data, mut planar } = load(input)?;
+    // Before the optimizer's topology exists, so that the run's peak memory is not raised.
+    let corners = corner_flags(&planar.mesh, &options);
     // `write_back` puts the quads back: meanwhile the file's copy is 16 bytes a quad for
     // nothing, as is the topology once the run is over (the writers need memory too).
     data.quads = Vec::new();
@@ -504,6 +515,7 @@ fn cmd_optimize(
     let report = run(&optimizer, &mut planar.mesh, &options, !as_json)?;
     drop(optimizer);
     let moved = planar.write_back(&mut data);
+    annotate(&mut data, &planar, corners);
     match format {
         Some(format) => write_mesh_output(output, format, &data)?,
         None => openmesh_io::write_mesh(output, &data)?,
@@ -579,9 +591,47 @@ fn histogram(values: &[f64]) -> [usize; 11] {
     h
 }
 
-fn cmd_quality(input: &Path, as_json: bool) -> Result<(), Fail> {
-    let Loaded { data, planar } = load(input)?;
+/// Per-vertex corner flags of `mesh` (the corners `options` keep in place).
+fn corner_flags(mesh: &QuadMesh, options: &Options) -> Vec<bool> {
+    let topo = quadopt::Topology::new(mesh);
+    let features = quadopt::features::Features::new(
+        mesh,
+        &topo,
+        options.feature_angle_deg,
+        options.boundary != BoundaryMode::Fixed,
+    );
+    (0..mesh.points().len()).map(|v| features.is_corner(v)).collect()
+}
+
+/// Adds what viewers colour by to `data`: each quad's signed scaled Jacobian at the planar
+/// mesh's positions, and the fixed and corner flags.
+fn annotate(data: &mut MeshData, planar: &PlanarMesh, corners: Vec<bool>) {
+    data.quality = Some(planar.mesh.quality_values());
+    data.fixed = Some(planar.mesh.fixed().to_vec());
+    data.corner = Some(corners);
+}
+
+fn cmd_quality(
+    input: &Path,
+    output: Option<&Path>,
+    format: Option<Format>,
+    as_json: bool,
+) -> Result<(), Fail> {
+    let Loaded { mut data, planar } = load(input)?;
     let values = planar.mesh.quality_values();
+    if let Some(output) = output {
+        let corners = corner_flags(&planar.mesh, &Options::default());
+        annotate(&mut data, &planar, corners);
+        if openmesh_io::handles_output(output) {
+            openmesh_io::check_output(output)?;
+            openmesh_io::write_mesh(output, &data)?;
+        } else {
+            let format = output_format(output, format, Format::from_path(input).ok())?;
+            write_mesh_output(output, format, &data)?;
+        }
+        // The mesh went to stdout: the report goes to stderr.
+        REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
+    }
     let s = QualityStats::from_values(&values);
     let h = histogram(&values);
     if as_json {

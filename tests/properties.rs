@@ -723,6 +723,7 @@ fn mesh_data() -> impl Strategy<Value = MeshData> {
             fixed,
             msh_version,
             vtk_polydata,
+            ..MeshData::default()
         })
 }
 

@@ -49,8 +49,8 @@ fn every_format_round_trips_bit_identical() {
         let back = io::read_mesh_str(&text, format).unwrap();
         assert_eq!(bits(&back.points), bits(&mesh.points), "{format:?}");
         assert_eq!(back.quads, mesh.quads, "{format:?}");
-        if format == Format::Vtk {
-            assert_eq!(back.fixed, mesh.fixed);
+        if matches!(format, Format::Vtk | Format::Msh) {
+            assert_eq!(back.fixed, mesh.fixed, "{format:?}");
         } else {
             assert_eq!(back.fixed, None, "{format:?} has no fixed flags");
         }
@@ -416,4 +416,31 @@ fn a_byte_order_mark_is_skipped_in_every_format() {
     let twice = format!("\u{feff}{obj}");
     assert!(io::read_mesh_str(&twice, Format::Obj).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn msh_fixed_flags_round_trip_in_both_versions_and_views_are_checked() {
+    for version in [MshVersion::V2_2, MshVersion::V4_1] {
+        let mut mesh = awkward_mesh();
+        mesh.msh_version = Some(version);
+        mesh.quality = Some(vec![0.25, -0.5]);
+        mesh.corner = Some(vec![false, true, false, false, true, false]);
+        let text = io::write_mesh_string(Format::Msh, &mesh).unwrap();
+        let back = io::read_mesh_str(&text, Format::Msh).unwrap();
+        // `fixed` is read back; the quality and corner views are skipped.
+        assert_eq!(back.fixed, mesh.fixed, "{version:?}");
+        assert_eq!((back.quality, back.corner), (None, None));
+    }
+    let mesh = awkward_mesh();
+    let text = io::write_mesh_string(Format::Msh, &mesh).unwrap();
+    let bad = text.replace("\n6 1\n$EndNodeData", "\n9 1\n$EndNodeData");
+    let e = io::read_mesh_str(&bad, Format::Msh).unwrap_err().to_string();
+    assert!(e.contains("view \"fixed\" refers to node 9, which does not exist"), "{e}");
+    let truncated = &text[..text.find("$EndNodeData").unwrap()];
+    assert!(io::read_mesh_str(truncated, Format::Msh).is_err());
+    // Arrays of the wrong length are refused before anything is written.
+    let mut wrong = awkward_mesh();
+    wrong.quality = Some(vec![1.0]);
+    let e = io::write_mesh_string(Format::Vtk, &wrong).unwrap_err().to_string();
+    assert!(e.contains("1 quality values for 2 quads"), "{e}");
 }

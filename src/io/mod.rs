@@ -24,7 +24,9 @@
 //!   the fixed flags (nonzero = fixed); every other attribute is skipped.
 //! - MSH ASCII 2.x and 4.1: nodes in file order (tags may be sparse), 4-node quads (type 3).
 //!   Point and line elements (Gmsh writes them for corners and boundary curves) are skipped;
-//!   any other element (triangles, higher-order quads, volumes) is an error.
+//!   any other element (triangles, higher-order quads, volumes) is an error. A one-component
+//!   `$NodeData` view named `fixed` gives the fixed flags (nonzero = fixed); other views are
+//!   skipped.
 //!
 //! Vertices used by no quad are kept as they are, in their place.
 //!

@@ -101,6 +101,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let mut tags = NodeTags::default();
     let mut elements: Option<Elements> = None;
     let (mut have_nodes, mut have_elements) = (false, false);
+    let mut fixed = None;
     while let Some(t) = lex.peek() {
         lex.next("")?;
         match t.s {
@@ -123,6 +124,11 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
                 expect(&mut lex, "$EndElements")?;
                 elements = Some(e);
             }
+            "$NodeData" if have_nodes => {
+                if let Some(flags) = read_node_flags(&mut lex, &tags, points.len(), "fixed")? {
+                    fixed = Some(flags);
+                }
+            }
             s if s.starts_with('$') && !s.starts_with("$End") => {
                 let end = format!("$End{}", &s[1..]);
                 lex.skip_past(&end)?;
@@ -142,7 +148,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     Ok(MeshData {
         points,
         quads,
-        fixed: None,
+        fixed,
         msh_version: Some(version),
         vtk_polydata: false,
         ..MeshData::default()
@@ -384,6 +390,49 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         }
     }
     write_views(w, data)
+}
+
+/// A `$NodeData` view after its keyword: the flags (nonzero = set) if the view is named
+/// `name` and has one component, else `None`; either way up to and including `$EndNodeData`.
+/// Nodes the view does not list are not set.
+fn read_node_flags(
+    lex: &mut Lexer<'_>,
+    tags: &NodeTags,
+    nodes: usize,
+    name: &str,
+) -> Result<Option<Vec<bool>>, IoError> {
+    let strings = lex.usize("the view's string tag count")?;
+    let mut view_name = String::new();
+    for i in 0..strings {
+        let words: Vec<&str> = lex.rest_of_line("a string tag")?.iter().map(|t| t.s).collect();
+        if i == 0 {
+            view_name = words.join(" ");
+        }
+    }
+    let reals = lex.usize("the view's real tag count")?;
+    lex.skip(reals, "real tags")?;
+    let integers = lex.usize("the view's integer tag count")?;
+    let mut ints = Vec::new();
+    for _ in 0..integers {
+        try_push(&mut ints, lex.usize("an integer tag")?, "integer tags")?;
+    }
+    let (components, count) = (ints.get(1).copied().unwrap_or(1), ints.get(2).copied().unwrap_or(0));
+    if view_name != format!("\"{name}\"") || components != 1 {
+        lex.skip_past("$EndNodeData")?;
+        return Ok(None);
+    }
+    let mut flags = try_vec(nodes, "flags")?;
+    flags.resize(nodes, false);
+    for _ in 0..count {
+        let t = lex.next("a node tag")?;
+        let tag = parse_usize(t, "a node tag")? as u64;
+        let index = tags
+            .get(tag)
+            .ok_or_else(|| err(t, format!("view \"{name}\" refers to node {tag}, which does not exist")))?;
+        flags[index as usize] = lex.f64("a view value")? != 0.0;
+    }
+    expect(lex, "$EndNodeData")?;
+    Ok(Some(flags))
 }
 
 /// The quality and the flags as post-processing views, which gmsh shows by name: an

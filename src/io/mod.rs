@@ -44,6 +44,7 @@ mod msh;
 mod obj;
 mod off;
 mod vtk;
+mod vtu;
 
 pub use output::{remove_pending_temporary_files, write_file, write_output};
 pub use planar::{PlanarFrame, PlanarMesh};
@@ -70,7 +71,7 @@ pub enum IoError {
     #[error("write failed: {0}")]
     Stream(#[source] std::io::Error),
     /// The file extension names no supported format.
-    #[error("{}: unknown mesh format (expected the extension .obj, .off, .vtk or .msh)", path.display())]
+    #[error("{}: unknown mesh format (expected the extension .obj, .off, .vtk, .msh or .vtu)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -83,6 +84,10 @@ pub enum IoError {
         /// What is wrong.
         message: String,
     },
+    /// The content of a file without meaningful lines (VTU's XML and binary blocks) is
+    /// malformed.
+    #[error("{0}")]
+    Malformed(String),
     /// A cell is not a quad.
     #[error("line {line}: cell {cell} is a {kind}; only quads are supported")]
     NonQuad {
@@ -120,11 +125,13 @@ pub enum Format {
     Vtk,
     /// Gmsh MSH, ASCII (`.msh`).
     Msh,
+    /// VTK XML UnstructuredGrid (`.vtu`): ASCII, base64 or appended raw, zlib or not.
+    Vtu,
 }
 
 impl Format {
     /// Every format.
-    pub const ALL: [Format; 4] = [Format::Obj, Format::Off, Format::Vtk, Format::Msh];
+    pub const ALL: [Format; 5] = [Format::Obj, Format::Off, Format::Vtk, Format::Msh, Format::Vtu];
 
     /// The format named by a path's extension (ASCII case-insensitive).
     pub fn from_path(path: &Path) -> Result<Format, IoError> {
@@ -134,6 +141,7 @@ impl Format {
             Some("off") => Ok(Format::Off),
             Some("vtk") => Ok(Format::Vtk),
             Some("msh") => Ok(Format::Msh),
+            Some("vtu") => Ok(Format::Vtu),
             _ => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
         }
     }
@@ -145,6 +153,7 @@ impl Format {
             Format::Off => "off",
             Format::Vtk => "vtk",
             Format::Msh => "msh",
+            Format::Vtu => "vtu",
         }
     }
 }
@@ -245,6 +254,12 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// Reads a mesh from bytes (invalid UTF-8 is replaced; it can only occur in comments and
 /// titles of a valid file). Never panics, whatever the bytes.
 pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError> {
+    if format == Format::Vtu {
+        // Binary data: not text.
+        let data = vtu::read(bytes)?;
+        data.check()?;
+        return Ok(data);
+    }
     read_mesh_str(&String::from_utf8_lossy(bytes), format)
 }
 
@@ -258,6 +273,7 @@ pub fn read_mesh_str(text: &str, format: Format) -> Result<MeshData, IoError> {
         Format::Off => off::read(text)?,
         Format::Vtk => vtk::read(text)?,
         Format::Msh => msh::read(text)?,
+        Format::Vtu => vtu::read(text.as_bytes())?,
     };
     data.check()?;
     Ok(data)
@@ -270,11 +286,17 @@ pub fn write_mesh_to(writer: &mut dyn Write, format: Format, data: &MeshData) ->
     write_body(&mut w, format, data).and_then(|()| w.flush()).map_err(IoError::Stream)
 }
 
-/// Writes a mesh to text in `format`.
-pub fn write_mesh_string(format: Format, data: &MeshData) -> Result<String, IoError> {
+/// Writes a mesh to bytes in `format` (binary encodings included).
+pub fn write_mesh_bytes(format: Format, data: &MeshData) -> Result<Vec<u8>, IoError> {
     let mut buf = Vec::new();
     write_mesh_to(&mut buf, format, data)?;
-    // Every writer emits ASCII only.
+    Ok(buf)
+}
+
+/// Writes a mesh to text in `format`. A binary encoding ([`MeshData::encoding`]) that is not
+/// valid UTF-8 is an error: use [`write_mesh_bytes`] for those.
+pub fn write_mesh_string(format: Format, data: &MeshData) -> Result<String, IoError> {
+    let buf = write_mesh_bytes(format, data)?;
     String::from_utf8(buf).map_err(|e| IoError::Stream(std::io::Error::other(e)))
 }
 
@@ -299,6 +321,7 @@ fn write_body(w: &mut dyn Write, format: Format, data: &MeshData) -> std::io::Re
         Format::Off => off::write(w, data),
         Format::Vtk => vtk::write(w, data),
         Format::Msh => msh::write(w, data),
+        Format::Vtu => vtu::write(w, data),
     }
 }
 

@@ -84,7 +84,37 @@ fn parse_format(s: &str) -> Result<Format, String> {
     Format::ALL
         .into_iter()
         .find(|f| f.extension().eq_ignore_ascii_case(s))
-        .ok_or_else(|| format!("unknown mesh format '{s}' (expected obj, off, vtk or msh)"))
+        .ok_or_else(|| format!("unknown mesh format '{s}' (expected obj, off, vtk, msh or vtu)"))
+}
+
+/// How the output file stores its data (VTU and MSH); by default as the input did.
+#[derive(Args)]
+struct EncodingArgs {
+    /// Output encoding: ascii; binary (MSH binary, VTU inline base64); appended (VTU appended
+    /// raw data, ParaView's default). Other formats are always text.
+    #[arg(long, value_parser = parse_encoding)]
+    encoding: Option<io::Encoding>,
+    /// Compress VTU binary or appended data with zlib (ParaView's default).
+    #[arg(long)]
+    zlib: bool,
+}
+
+impl EncodingArgs {
+    fn apply(&self, data: &mut MeshData) {
+        if let Some(e) = self.encoding {
+            data.encoding = e;
+        }
+        data.compressed |= self.zlib;
+    }
+}
+
+fn parse_encoding(s: &str) -> Result<io::Encoding, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "ascii" => Ok(io::Encoding::Ascii),
+        "binary" => Ok(io::Encoding::Binary),
+        "appended" => Ok(io::Encoding::Appended),
+        _ => Err(format!("unknown encoding '{s}' (expected ascii, binary or appended)")),
+    }
 }
 
 #[derive(Subcommand)]
@@ -96,9 +126,11 @@ enum Command {
         /// Output mesh (format from its extension); `-` writes to stdout, in the input's format.
         #[arg(short, long)]
         output: PathBuf,
-        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
         #[arg(long, value_parser = parse_format)]
         format: Option<Format>,
+        #[command(flatten)]
+        encoding: EncodingArgs,
         #[command(flatten)]
         opts: OptArgs,
         /// Print one JSON object instead of text.
@@ -113,9 +145,11 @@ enum Command {
         /// and corner flags as point data (VTK, MSH); `-` writes to stdout.
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
         #[arg(long, value_parser = parse_format, requires = "output")]
         format: Option<Format>,
+        #[command(flatten)]
+        encoding: EncodingArgs,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -149,7 +183,7 @@ enum Command {
         /// Output mesh (format from its extension); `-` writes to stdout (needs --format).
         #[arg(short, long)]
         output: PathBuf,
-        /// Output format, whatever the output's name: obj, off, vtk or msh.
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
         #[arg(long, value_parser = parse_format)]
         format: Option<Format>,
         /// Approximate number of quads of a square grid (overrides --nx and --ny).
@@ -317,11 +351,11 @@ fn main() -> ExitCode {
 fn dispatch(command: Option<Command>) -> Result<(), Fail> {
     match command {
         None => run_data_dir(),
-        Some(Command::Optimize { input, output, format, opts, json }) => {
-            cmd_optimize(&input, &output, format, &opts, json)
+        Some(Command::Optimize { input, output, format, encoding, opts, json }) => {
+            cmd_optimize(&input, &output, format, &encoding, &opts, json)
         }
-        Some(Command::Quality { input, output, format, json }) => {
-            cmd_quality(&input, output.as_deref(), format, json)
+        Some(Command::Quality { input, output, format, encoding, json }) => {
+            cmd_quality(&input, output.as_deref(), format, &encoding, json)
         }
         Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
         Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
@@ -495,6 +529,7 @@ fn cmd_optimize(
     input: &Path,
     output: &Path,
     format: Option<Format>,
+    encoding: &EncodingArgs,
     opts: &OptArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
@@ -516,6 +551,7 @@ fn cmd_optimize(
     drop(optimizer);
     let moved = planar.write_back(&mut data);
     annotate(&mut data, &planar, corners);
+    encoding.apply(&mut data);
     match format {
         Some(format) => write_mesh_output(output, format, &data)?,
         None => openmesh_io::write_mesh(output, &data)?,
@@ -615,6 +651,7 @@ fn cmd_quality(
     input: &Path,
     output: Option<&Path>,
     format: Option<Format>,
+    encoding: &EncodingArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
     let Loaded { mut data, planar } = load(input)?;
@@ -622,6 +659,7 @@ fn cmd_quality(
     if let Some(output) = output {
         let corners = corner_flags(&planar.mesh, &Options::default());
         annotate(&mut data, &planar, corners);
+        encoding.apply(&mut data);
         if openmesh_io::handles_output(output) {
             openmesh_io::check_output(output)?;
             openmesh_io::write_mesh(output, &data)?;

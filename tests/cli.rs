@@ -564,3 +564,52 @@ fn outputs_carry_the_quality_and_the_fixed_and_corner_flags() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn vtu_outputs_follow_encoding_and_zlib_and_match_the_vtk_output() {
+    let dir = scratch("vtu");
+    let mut mesh = jittered_grid(6);
+    let n = mesh.points.len();
+    mesh.fixed = Some((0..n).map(|i| i == 8 || i == 24).collect());
+    let input = dir.join("in.vtk");
+    io::write_mesh(&input, &mesh).unwrap();
+    let reference = dir.join("out.vtk");
+    assert!(quadopt(&["optimize", s(&input), "-o", s(&reference)]).status.success());
+    let want = io::read_mesh(&reference).unwrap();
+    let bits = |d: &MeshData| d.points.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
+    let cases: [(&[&str], &str, bool); 4] = [
+        (&[], r#"format="ascii""#, false),
+        (&["--encoding", "binary"], r#"format="binary""#, false),
+        (&["--encoding", "appended", "--zlib"], r#"<AppendedData encoding="raw">"#, true),
+        (&["--encoding", "binary", "--zlib"], r#"format="binary""#, true),
+    ];
+    for (extra, marker, zlib) in cases {
+        let output = dir.join("out.vtu");
+        let mut args = vec!["optimize", s(&input), "-o", s(&output)];
+        args.extend_from_slice(extra);
+        let out = quadopt(&args);
+        assert!(out.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let bytes = std::fs::read(&output).unwrap();
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(text.contains(marker), "{extra:?}");
+        assert_eq!(text.contains("vtkZLibDataCompressor"), zlib, "{extra:?}");
+        assert!(text.contains(r#"Name="scaled_jacobian""#) && text.contains(r#"Name="corner""#));
+        let got = io::read_mesh(&output).unwrap();
+        assert_eq!(bits(&got), bits(&want), "{extra:?}: the same coordinates as the VTK output");
+        assert_eq!(got.quads, want.quads);
+        assert_eq!(got.fixed, mesh.fixed, "{extra:?}: fixed flags");
+        // A VTU input is written back in its own encoding: optimizing the output again
+        // (an idempotent no-op or not) keeps appended + zlib.
+        let again = dir.join("again.vtu");
+        assert!(quadopt(&["optimize", s(&output), "-o", s(&again)]).status.success());
+        let back = io::read_mesh(&again).unwrap();
+        assert_eq!((back.encoding, back.compressed), (got.encoding, got.compressed), "{extra:?}");
+    }
+    fails(
+        &["optimize", s(&input), "-o", s(&dir.join("x.vtu")), "--encoding", "hex"],
+        2,
+        "unknown encoding 'hex' (expected ascii, binary or appended)",
+        Some(&dir.join("x.vtu")),
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

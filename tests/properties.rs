@@ -25,7 +25,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use quadopt::features::Features;
-use quadopt::io::{self, Format, MeshData, MshVersion};
+use quadopt::io::{self, Encoding, Format, MeshData, MshVersion};
 use quadopt::topology::{Topology, VertexKind};
 use quadopt::{BoundaryMode, DVec2, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize};
 use std::collections::HashMap;
@@ -655,6 +655,9 @@ fn mutated_file() -> impl Strategy<Value = (Format, Vec<u8>)> {
             );
             data.msh_version = Some(if v2 { MshVersion::V2_2 } else { MshVersion::V4_1 });
             data.vtk_polydata = v2;
+            // VTU: ASCII, or base64 (zlib-compressed with the fixed flags).
+            data.encoding = if v2 { Encoding::Binary } else { Encoding::Ascii };
+            data.compressed = with_fixed;
             if with_fixed {
                 data.fixed = Some(vec![true, false, false, true, false, true]);
             }
@@ -735,12 +738,22 @@ proptest! {
     #![proptest_config(config(200))]
 
     /// Write then read gives back the same points (bit for bit), quads and, where the format
-    /// stores them, fixed flags, MSH version and VTK dataset kind.
+    /// stores them, fixed flags, MSH version and VTK dataset kind; VTU in every encoding, with
+    /// and without zlib.
     #[test]
     fn write_read_round_trips_bit_identical(data in mesh_data()) {
-        for format in Format::ALL {
-            let text = io::write_mesh_string(format, &data).unwrap();
-            let back = io::read_mesh_str(&text, format).unwrap();
+        let vtu_variants = [Encoding::Ascii, Encoding::Binary, Encoding::Appended]
+            .into_iter()
+            .flat_map(|e| [(e, false), (e, true)]);
+        let variants = Format::ALL
+            .into_iter()
+            .filter(|&f| f != Format::Vtu)
+            .map(|f| (f, Encoding::Ascii, false))
+            .chain(vtu_variants.map(|(e, z)| (Format::Vtu, e, z)));
+        for (format, encoding, compressed) in variants {
+            let data = MeshData { encoding, compressed, ..data.clone() };
+            let bytes = io::write_mesh_bytes(format, &data).unwrap();
+            let back = io::read_mesh_bytes(&bytes, format).unwrap();
             prop_assert_eq!(point_bits(&back.points), point_bits(&data.points), "{:?}", format);
             prop_assert_eq!(&back.quads, &data.quads, "{:?}", format);
             match format {
@@ -751,10 +764,15 @@ proptest! {
                 Format::Msh => {
                     prop_assert_eq!(back.msh_version, Some(data.msh_version.unwrap_or_default()));
                 }
+                Format::Vtu => {
+                    prop_assert_eq!(&back.fixed, &data.fixed);
+                    prop_assert_eq!(back.encoding, encoding);
+                    prop_assert_eq!(back.compressed, compressed && encoding != Encoding::Ascii);
+                }
                 Format::Obj | Format::Off => prop_assert_eq!(&back.fixed, &None),
             }
-            // A second trip writes the same text.
-            prop_assert_eq!(io::write_mesh_string(format, &back).unwrap(), text);
+            // A second trip writes the same bytes.
+            prop_assert_eq!(io::write_mesh_bytes(format, &back).unwrap(), bytes);
         }
     }
 }

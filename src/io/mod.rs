@@ -1,5 +1,5 @@
-//! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII) and Gmsh MSH (ASCII 2.2 and 4.1), read
-//! and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
+//! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII), Gmsh MSH (ASCII 2.2 and 4.1) and VTK
+//! XML UnstructuredGrid (`.vtu`), read and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
 //! 2D [`QuadMesh`](crate::QuadMesh) the optimizer works on ([`planar`]).
 //!
 //! # Why hand-written parsers
@@ -28,12 +28,18 @@
 //!   `$NodeData` view named `fixed` gives the fixed flags (nonzero = fixed); other views are
 //!   skipped.
 //!
+//! - VTU: one `<Piece>` of quad cells (type 9), data arrays in ASCII, inline base64 or
+//!   appended (raw or base64) form, either byte order, UInt32 or UInt64 headers, zlib
+//!   compression or none; the point-data array `fixed` gives the fixed flags. Other arrays
+//!   are skipped. The crates considered and why the reader is hand-written: see the module
+//!   `vtu`'s source.
+//!
 //! Vertices used by no quad are kept as they are, in their place.
 //!
 //! # What is written besides the mesh
 //! [`MeshData::quality`] as cell data `scaled_jacobian` and [`MeshData::fixed`] and
 //! [`MeshData::corner`] as 0/1 point data of those names: VTK `CELL_DATA` / `POINT_DATA`
-//! `SCALARS`, MSH `$ElementData` / `$NodeData` views (element and node tags are the 1-based
+//! `SCALARS`, VTU `<CellData>` / `<PointData>` arrays, MSH `$ElementData` / `$NodeData` views (element and node tags are the 1-based
 //! indices the writers number them by). OBJ and OFF carry none of them.
 
 pub mod output;

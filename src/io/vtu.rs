@@ -22,6 +22,7 @@ use super::{Encoding, IoError, MeshData, Num};
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use quick_xml::events::{BytesStart, Event};
+use std::borrow::Cow;
 use std::io::{Read, Write};
 
 /// VTK's cell type of a quad.
@@ -117,13 +118,14 @@ struct FileInfo {
 
 /// One `<DataArray>`, its data not yet decoded.
 #[derive(Default)]
-struct Array {
+struct Array<'a> {
     name: String,
     scalar: Option<Scalar>,
     components: usize,
     format: String,
     offset: Option<usize>,
-    text: Vec<u8>,
+    /// The element's text, borrowed from the file unless it came in several pieces.
+    text: Cow<'a, [u8]>,
 }
 
 /// Where a `<DataArray>` sits.
@@ -195,7 +197,12 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
             Event::End(_) if nested > 0 => nested -= 1,
             Event::Text(t) if nested == 0 => {
                 if let Some(a) = current.as_mut() {
-                    a.text.extend_from_slice(&t);
+                    let t = t.into_inner();
+                    if a.text.is_empty() {
+                        a.text = t;
+                    } else {
+                        a.text.to_mut().extend_from_slice(&t);
+                    }
                 }
             }
             Event::End(e) => match e.name().as_ref() {
@@ -257,20 +264,21 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
         let mut q = [0u32; 4];
         for (k, slot) in q.iter_mut().enumerate() {
             let v = connectivity[s + k];
-            *slot = u32::try_from(v).ok().filter(|&v| (v as usize) < n).ok_or_else(|| {
-                IoError::Mesh(crate::Error::IndexOutOfRange {
-                    quad: c,
-                    corner: k,
-                    index: v as u64,
-                    vertex_count: n,
-                })
-            })?;
+            let out_of_range = IoError::Mesh(crate::Error::IndexOutOfRange {
+                quad: c,
+                corner: k,
+                index: v as u64,
+                vertex_count: n,
+            });
+            *slot = u32::try_from(v).ok().filter(|&v| (v as usize) < n).ok_or(out_of_range)?;
         }
         quads.push(q);
         start += 4;
     }
     let fixed = match find(Section::PointData, Some("fixed")) {
-        Some(i) if arrays[i].1.components == 1 => Some(ctx.reals(&arrays[i].1, n)?.iter().map(|&x| x != 0.0).collect()),
+        Some(i) if arrays[i].1.components == 1 => {
+            Some(ctx.reals(&arrays[i].1, n)?.iter().map(|&x| x != 0.0).collect())
+        }
         _ => None,
     };
     let encoding = match (ctx.used_appended, ctx.used_binary) {
@@ -306,7 +314,9 @@ fn open(
         b"DataArray" => {
             let number = |key: &str| -> Result<Option<usize>, IoError> {
                 match attr(e, key)? {
-                    Some(v) => v.parse().map(Some).map_err(|_| bad(format!("{key}=\"{}\" is not a count", clip(&v)))),
+                    Some(v) => {
+                        v.parse().map(Some).map_err(|_| bad(format!("{key}=\"{}\" is not a count", clip(&v))))
+                    }
                     None => Ok(None),
                 }
             };
@@ -316,7 +326,7 @@ fn open(
                 components: number("NumberOfComponents")?.unwrap_or(1),
                 format: attr(e, "format")?.unwrap_or_else(|| "ascii".into()),
                 offset: number("offset")?,
-                text: Vec::new(),
+                text: Cow::Borrowed(&[]),
             });
         }
         _ => {}
@@ -327,7 +337,12 @@ fn open(
 fn file_info(e: &BytesStart<'_>) -> Result<FileInfo, IoError> {
     match attr(e, "type")?.as_deref() {
         Some("UnstructuredGrid") => {}
-        Some(t) => return Err(IoError::Unsupported(format!("VTK XML {} files (UnstructuredGrid is read)", clip(t)))),
+        Some(t) => {
+            return Err(IoError::Unsupported(format!(
+                "VTK XML {} files (UnstructuredGrid is read)",
+                clip(t)
+            )));
+        }
         None => return Err(bad("<VTKFile> has no type")),
     }
     let big_endian = match attr(e, "byte_order")?.as_deref() {
@@ -368,7 +383,8 @@ fn split_appended(bytes: &[u8]) -> Result<(&[u8], &[u8], bool), IoError> {
         return Err(bad("<AppendedData> encoding must be raw or base64"));
     };
     let body = &rest[close + 1..];
-    let underscore = body.iter().position(|&b| b == b'_').ok_or_else(|| bad("<AppendedData> has no '_' marker"))?;
+    let underscore =
+        body.iter().position(|&b| b == b'_').ok_or_else(|| bad("<AppendedData> has no '_' marker"))?;
     if !body[..underscore].iter().all(u8::is_ascii_whitespace) {
         return Err(bad("<AppendedData> must start with '_'"));
     }
@@ -397,7 +413,7 @@ impl Decoder<'_> {
     /// The `count` values of `array` as doubles.
     fn reals(&mut self, array: &Array, count: usize) -> Result<Vec<f64>, IoError> {
         let (scalar, bytes) = match self.bytes(array, count)? {
-            Raw::Ascii(text) => return ascii_values(&text, count, &array.name, |t| t.parse::<f64>().ok()),
+            Raw::Ascii(text) => return ascii_values(text, count, &array.name, |t| t.parse::<f64>().ok()),
             Raw::Binary(scalar, bytes) => (scalar, bytes),
         };
         let mut out = try_vec(count, "values")?;
@@ -409,7 +425,7 @@ impl Decoder<'_> {
     fn ints(&mut self, array: &Array, count: usize) -> Result<Vec<i64>, IoError> {
         let name = &array.name;
         let (scalar, bytes) = match self.bytes(array, count)? {
-            Raw::Ascii(text) => return ascii_values(&text, count, name, |t| t.parse::<i64>().ok()),
+            Raw::Ascii(text) => return ascii_values(text, count, name, |t| t.parse::<i64>().ok()),
             Raw::Binary(scalar, bytes) => (scalar, bytes),
         };
         let mut out = try_vec(count, "values")?;
@@ -443,9 +459,12 @@ impl Decoder<'_> {
             }
             "appended" => {
                 self.used_appended = true;
-                let offset = array.offset.ok_or_else(|| bad(format!("appended DataArray {name:?} has no offset")))?;
+                let offset =
+                    array.offset.ok_or_else(|| bad(format!("appended DataArray {name:?} has no offset")))?;
                 let data = self.appended.get(offset..).ok_or_else(|| {
-                    bad(format!("DataArray {name:?}: offset {offset} is past the appended data"))
+                    bad(format!(
+                        "DataArray {name:?}: offset {offset} is past the appended data (truncated file?)"
+                    ))
                 })?;
                 if self.appended_base64 {
                     let text: Vec<u8> = data.iter().copied().filter(|b| !b.is_ascii_whitespace()).collect();
@@ -484,8 +503,16 @@ impl Decoder<'_> {
         let header = data.get(..header_len).ok_or_else(short)?;
         let sizes: Vec<usize> = (0..blocks).map(|i| self.word(&header[(3 + i) * ws..]) as usize).collect();
         let total: usize = sizes.iter().try_fold(0usize, |a, &s| a.checked_add(s)).ok_or_else(short)?;
-        let body = data.get(header_len..header_len.checked_add(total).ok_or_else(short)?).ok_or_else(short)?;
-        inflate_blocks(body, &sizes, self.word(&head[ws..]) as usize, self.word(&head[2 * ws..]) as usize, expected, name)
+        let body =
+            data.get(header_len..header_len.checked_add(total).ok_or_else(short)?).ok_or_else(short)?;
+        inflate_blocks(
+            body,
+            &sizes,
+            self.word(&head[ws..]) as usize,
+            self.word(&head[2 * ws..]) as usize,
+            expected,
+            name,
+        )
     }
 
     /// Checks a compressed header's first three words: (block count, header length in bytes).
@@ -495,7 +522,9 @@ impl Decoder<'_> {
         let total = if blocks == 0 {
             0
         } else {
-            (blocks - 1).checked_mul(block).and_then(|x| x.checked_add(if last == 0 { block } else { last }))
+            (blocks - 1)
+                .checked_mul(block)
+                .and_then(|x| x.checked_add(if last == 0 { block } else { last }))
                 .ok_or_else(|| bad(format!("DataArray {name:?}: bad compression header")))?
         };
         check_size(total, expected, name)?;
@@ -508,12 +537,17 @@ impl Decoder<'_> {
 
     /// A binary block from base64 text: VTK encodes the header and the data separately (each
     /// padded); some writers encode them as one stream. Both are read.
-    fn block_base64(&self, text: &[u8], scalar: Scalar, count: usize, name: &str) -> Result<Vec<u8>, IoError> {
+    fn block_base64(
+        &self,
+        text: &[u8],
+        scalar: Scalar,
+        count: usize,
+        name: &str,
+    ) -> Result<Vec<u8>, IoError> {
         let ws = self.info.header.size();
         let expected = count.checked_mul(scalar.size()).ok_or_else(|| bad("array too large"))?;
-        let decode = |t: &[u8]| {
-            BASE64.decode(t).map_err(|e| bad(format!("DataArray {name:?}: bad base64 ({e})")))
-        };
+        let decode =
+            |t: &[u8]| BASE64.decode(t).map_err(|e| bad(format!("DataArray {name:?}: bad base64 ({e})")));
         let chars = |bytes: usize| bytes.div_ceil(3) * 4;
         let short = || bad(format!("DataArray {name:?}: the data ends early (truncated file?)"));
         let header_len = if self.info.compressed {
@@ -598,18 +632,30 @@ fn inflate_blocks(
 }
 
 /// ASCII values: exactly `count` of them, each parsed by `parse`.
-fn ascii_values<T>(text: &[u8], count: usize, name: &str, parse: impl Fn(&str) -> Option<T>) -> Result<Vec<T>, IoError> {
+fn ascii_values<T>(
+    text: &[u8],
+    count: usize,
+    name: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, IoError> {
     let text = String::from_utf8_lossy(text);
     let mut out = try_vec(count, "values")?;
     for (i, t) in text.split_ascii_whitespace().enumerate() {
         if i == count {
             let total = text.split_ascii_whitespace().count();
-            return Err(bad(format!("DataArray {name:?} holds {total} values where the piece's counts need {count}")));
+            return Err(bad(format!(
+                "DataArray {name:?} holds {total} values where the piece's counts need {count}"
+            )));
         }
-        out.push(parse(t).ok_or_else(|| bad(format!("DataArray {name:?}: {:?} is not a valid value", clip(t))))?);
+        out.push(
+            parse(t).ok_or_else(|| bad(format!("DataArray {name:?}: {:?} is not a valid value", clip(t))))?,
+        );
     }
     if out.len() != count {
-        return Err(bad(format!("DataArray {name:?} holds {} values where the piece's counts need {count}", out.len())));
+        return Err(bad(format!(
+            "DataArray {name:?} holds {} values where the piece's counts need {count}",
+            out.len()
+        )));
     }
     Ok(out)
 }
@@ -697,18 +743,29 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     let flag = |f: &bool| u8::from(*f);
     let mut point_data = Vec::new();
     if let Some(f) = &data.fixed {
-        point_data.push(Out { name: "fixed", components: 1, values: Values::U8(f.iter().map(flag).collect()) });
+        point_data.push(Out {
+            name: "fixed",
+            components: 1,
+            values: Values::U8(f.iter().map(flag).collect()),
+        });
     }
     if let Some(f) = &data.corner {
-        point_data.push(Out { name: "corner", components: 1, values: Values::U8(f.iter().map(flag).collect()) });
+        point_data.push(Out {
+            name: "corner",
+            components: 1,
+            values: Values::U8(f.iter().map(flag).collect()),
+        });
     }
     let cell_data: Vec<Out> = data
         .quality
         .iter()
         .map(|q| Out { name: "scaled_jacobian", components: 1, values: Values::F64(q.clone()) })
         .collect();
-    let points =
-        vec![Out { name: "Points", components: 3, values: Values::F64(data.points.iter().flatten().copied().collect()) }];
+    let points = vec![Out {
+        name: "Points",
+        components: 3,
+        values: Values::F64(data.points.iter().flatten().copied().collect()),
+    }];
     let cells = vec![
         Out {
             name: "connectivity",
@@ -727,7 +784,8 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     writeln!(w, "  <UnstructuredGrid>")?;
     writeln!(w, "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{m}\">")?;
     let mut appended: Vec<u8> = Vec::new();
-    let sections = [("PointData", &point_data), ("CellData", &cell_data), ("Points", &points), ("Cells", &cells)];
+    let sections =
+        [("PointData", &point_data), ("CellData", &cell_data), ("Points", &points), ("Cells", &cells)];
     for (section, arrays) in sections {
         if arrays.is_empty() {
             continue;

@@ -613,3 +613,56 @@ fn vtu_outputs_follow_encoding_and_zlib_and_match_the_vtk_output() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn fix_physical_pins_exactly_the_nodes_of_the_named_groups() {
+    let dir = scratch("physical");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/msh/plate_v41_binary.msh");
+    let data = io::read_mesh(&input).unwrap();
+    let group = |name: &str| data.physical_groups.iter().find(|g| g.name == name).unwrap().nodes.clone();
+    let (wall, hole, corner) = (group("wall"), group("hole"), group("corner"));
+    let run = |args: &[&str], name: &str| {
+        let output = dir.join(name);
+        let mut all = vec!["optimize", s(&input), "-o", s(&output)];
+        all.extend_from_slice(args);
+        let out = quadopt(&all);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        io::read_mesh(&output).unwrap()
+    };
+    let moved = |out: &MeshData, nodes: &[u32]| {
+        nodes.iter().filter(|&&v| out.points[v as usize] != data.points[v as usize]).count()
+    };
+    // Without the option the wall's and the hole's nodes move (they slide or snap) ...
+    let free = run(&[], "free.msh");
+    assert!(moved(&free, &wall) > 5 && moved(&free, &hole) > 5);
+    // ... with it they keep their coordinates bit for bit, and the written `fixed` flags
+    // are exactly the groups' nodes.
+    let pinned = run(&["--fix-physical", "wall", "--fix-physical", "corner"], "pinned.msh");
+    assert_eq!(moved(&pinned, &wall), 0);
+    assert!(moved(&pinned, &hole) > 5, "only the named groups are pinned");
+    let want: Vec<bool> =
+        (0..data.points.len() as u32).map(|v| wall.contains(&v) || corner.contains(&v)).collect();
+    assert_eq!(pinned.fixed, Some(want));
+    for (a, b) in wall.iter().map(|&v| (pinned.points[v as usize], data.points[v as usize])) {
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+    }
+    // Binary in, binary out.
+    assert_eq!(pinned.encoding, io::Encoding::Binary);
+    // An unknown name lists the names there are; a file without groups says so.
+    let out_path = dir.join("x.msh");
+    fails(
+        &["optimize", s(&input), "-o", s(&out_path), "--fix-physical", "inlet"],
+        1,
+        "--fix-physical inlet: no physical point or curve of that name (the file has: corner, wall, hole)",
+        Some(&out_path),
+    );
+    let vtk = dir.join("grid.vtk");
+    io::write_mesh(&vtk, &jittered_grid(3)).unwrap();
+    fails(
+        &["optimize", s(&vtk), "-o", s(&out_path), "--fix-physical", "wall"],
+        1,
+        "(the file has none)",
+        Some(&out_path),
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -252,8 +252,18 @@ fn truncated_files_are_errors_and_no_prefix_panics() {
 fn unsupported_variants_are_refused() {
     let bin = "# vtk DataFile Version 2.0\nt\nBINARY\nDATASET UNSTRUCTURED_GRID\n";
     assert!(matches!(read_err(bin, Format::Vtk), IoError::Unsupported(_)));
+    // Binary MSH 2.2 is refused by name; a binary 4.1 header without its byte-order check
+    // is a malformed file, not an unsupported one; file types other than 0 and 1 are errors.
+    let msh = "$MeshFormat\n2.2 1 8\n$EndMeshFormat\n";
+    assert!(
+        matches!(read_err(msh, Format::Msh), IoError::Unsupported(m) if m.contains("binary MSH version 2.2"))
+    );
     let msh = "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n";
-    assert!(matches!(read_err(msh, Format::Msh), IoError::Unsupported(m) if m.contains("binary")));
+    let e = read_err(msh, Format::Msh);
+    assert!(matches!(e, IoError::Malformed(_) | IoError::Parse { .. }), "{e:?}");
+    assert!(!e.to_string().contains('\n'), "{e}");
+    let msh = "$MeshFormat\n4.1 2 8\n$EndMeshFormat\n";
+    assert!(read_err(msh, Format::Msh).to_string().contains("file type '2'"));
     let msh = "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n";
     assert!(matches!(read_err(msh, Format::Msh), IoError::Unsupported(m) if m.contains("3.0")));
     let sp = "# vtk DataFile Version 2.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n";

@@ -656,7 +656,7 @@ fn mutated_file() -> impl Strategy<Value = (Format, Vec<u8>)> {
             data.msh_version = Some(if v2 { MshVersion::V2_2 } else { MshVersion::V4_1 });
             data.vtk_polydata = v2;
             // VTU: ASCII, or base64 (zlib-compressed with the fixed flags).
-            data.encoding = if v2 { Encoding::Binary } else { Encoding::Ascii };
+            data.encoding = if v2 && format == Format::Vtu { Encoding::Binary } else { Encoding::Ascii };
             data.compressed = with_fixed;
             if with_fixed {
                 data.fixed = Some(vec![true, false, false, true, false, true]);
@@ -739,7 +739,7 @@ proptest! {
 
     /// Write then read gives back the same points (bit for bit), quads and, where the format
     /// stores them, fixed flags, MSH version and VTK dataset kind; VTU in every encoding, with
-    /// and without zlib.
+    /// and without zlib; binary MSH.
     #[test]
     fn write_read_round_trips_bit_identical(data in mesh_data()) {
         let vtu_variants = [Encoding::Ascii, Encoding::Binary, Encoding::Appended]
@@ -749,7 +749,8 @@ proptest! {
             .into_iter()
             .filter(|&f| f != Format::Vtu)
             .map(|f| (f, Encoding::Ascii, false))
-            .chain(vtu_variants.map(|(e, z)| (Format::Vtu, e, z)));
+            .chain(vtu_variants.map(|(e, z)| (Format::Vtu, e, z)))
+            .chain([(Format::Msh, Encoding::Binary, false)]);
         for (format, encoding, compressed) in variants {
             let data = MeshData { encoding, compressed, ..data.clone() };
             let bytes = io::write_mesh_bytes(format, &data).unwrap();
@@ -760,6 +761,11 @@ proptest! {
                 Format::Vtk => {
                     prop_assert_eq!(&back.fixed, &data.fixed);
                     prop_assert_eq!(back.vtk_polydata, data.vtk_polydata);
+                }
+                Format::Msh if encoding == Encoding::Binary => {
+                    // Binary is 4.1 only.
+                    prop_assert_eq!(back.msh_version, Some(MshVersion::V4_1));
+                    prop_assert_eq!(&back.fixed, &data.fixed);
                 }
                 Format::Msh => {
                     prop_assert_eq!(back.msh_version, Some(data.msh_version.unwrap_or_default()));

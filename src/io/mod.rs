@@ -197,6 +197,23 @@ pub struct MeshData {
     pub encoding: Encoding,
     /// Whether a VTU file's data blocks were zlib-compressed (written back the same way).
     pub compressed: bool,
+    /// Gmsh physical points and curves (MSH files; empty otherwise). Read only: the MSH
+    /// writers write one surface entity with the quads and no groups.
+    pub physical_groups: Vec<PhysicalGroup>,
+}
+
+/// A Gmsh physical group of dimension 0 (points) or 1 (curves), with the nodes of its
+/// elements.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PhysicalGroup {
+    /// 0 for a physical point, 1 for a physical curve.
+    pub dim: u8,
+    /// The physical tag.
+    pub tag: i32,
+    /// Its name from `$PhysicalNames` (empty if it has none).
+    pub name: String,
+    /// The 0-based indices of its nodes, sorted, each once.
+    pub nodes: Vec<u32>,
 }
 
 /// How a format with several encodings stores its data.
@@ -240,6 +257,12 @@ impl MeshData {
         if let Some(got) = self.corner.as_ref().map(Vec::len).filter(|&len| len != n) {
             return Err(IoError::Unsupported(format!("{got} corner flags for {n} points")));
         }
+        if let Some(g) = self.physical_groups.iter().find(|g| g.nodes.iter().any(|&v| v as usize >= n)) {
+            return Err(IoError::Unsupported(format!(
+                "physical group {:?} refers to a missing point",
+                g.name
+            )));
+        }
         let m = self.quads.len();
         if let Some(got) = self.quality.as_ref().map(Vec::len).filter(|&len| len != m) {
             return Err(IoError::Unsupported(format!("{got} quality values for {m} quads")));
@@ -260,9 +283,14 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// Reads a mesh from bytes (invalid UTF-8 is replaced; it can only occur in comments and
 /// titles of a valid file). Never panics, whatever the bytes.
 pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError> {
-    if format == Format::Vtu {
-        // Binary data: not text.
-        let data = vtu::read(bytes)?;
+    // Formats with binary data are read as bytes.
+    let binary = match format {
+        Format::Vtu => Some(vtu::read(bytes)),
+        Format::Msh => Some(msh::read_bytes(bytes)),
+        _ => None,
+    };
+    if let Some(data) = binary {
+        let data = data?;
         data.check()?;
         return Ok(data);
     }

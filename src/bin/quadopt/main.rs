@@ -219,6 +219,10 @@ struct OptArgs {
     /// Boundary treatment: fixed, slide, snap or auto (the better of slide and snap).
     #[arg(long, default_value = "auto")]
     boundary: BoundaryMode,
+    /// Keep every node of the Gmsh physical curve or point NAME fixed (MSH input;
+    /// repeatable).
+    #[arg(long = "fix-physical", value_name = "NAME")]
+    fix_physical: Vec<String>,
     #[command(flatten)]
     tune: TuneArgs,
 }
@@ -444,10 +448,38 @@ struct Loaded {
     planar: PlanarMesh,
 }
 
-fn load(path: &Path) -> Result<Loaded, Fail> {
-    let data = openmesh_io::read_mesh(path)?;
+/// Reads `path`; the nodes of the physical groups named in `fix` join the fixed flags.
+fn load(path: &Path, fix: &[String]) -> Result<Loaded, Fail> {
+    let mut data = openmesh_io::read_mesh(path)?;
+    fix_physical(&mut data, fix).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     let planar = PlanarMesh::new(&data).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     Ok(Loaded { data, planar })
+}
+
+/// Pins every node of the physical points and curves named `names` (all groups of a name).
+fn fix_physical(data: &mut MeshData, names: &[String]) -> Result<(), String> {
+    let n = data.points.len();
+    for name in names {
+        let groups: Vec<&io::PhysicalGroup> =
+            data.physical_groups.iter().filter(|g| &g.name == name).collect();
+        if groups.is_empty() {
+            let mut known: Vec<&str> =
+                data.physical_groups.iter().map(|g| g.name.as_str()).filter(|s| !s.is_empty()).collect();
+            known.dedup();
+            let has = if known.is_empty() {
+                "the file has none".to_string()
+            } else {
+                format!("the file has: {}", known.join(", "))
+            };
+            return Err(format!("--fix-physical {name}: no physical point or curve of that name ({has})"));
+        }
+        let nodes: Vec<u32> = groups.iter().flat_map(|g| g.nodes.iter().copied()).collect();
+        let fixed = data.fixed.get_or_insert_with(|| vec![false; n]);
+        for v in nodes {
+            fixed[v as usize] = true;
+        }
+    }
+    Ok(())
 }
 
 /// How long a run goes before the progress bar appears.
@@ -540,7 +572,7 @@ fn cmd_optimize(
     } else {
         Some(output_format(output, format, Format::from_path(input).ok())?)
     };
-    let Loaded { mut data, mut planar } = load(input)?;
+    let Loaded { mut data, mut planar } = load(input, &opts.fix_physical)?;
     // Before the optimizer's topology exists, so that the run's peak memory is not raised.
     let corners = corner_flags(&planar.mesh, &options);
     // `write_back` puts the quads back: meanwhile the file's copy is 16 bytes a quad for
@@ -654,7 +686,7 @@ fn cmd_quality(
     encoding: &EncodingArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
-    let Loaded { mut data, planar } = load(input)?;
+    let Loaded { mut data, planar } = load(input, &[])?;
     let values = planar.mesh.quality_values();
     if let Some(output) = output {
         let corners = corner_flags(&planar.mesh, &Options::default());
@@ -712,7 +744,7 @@ fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
     let configs: Vec<Options> = COMPARE.iter().map(|&(m, b)| tune.options(m, b)).collect::<Result<_, _>>()?;
     let mut rows = Vec::new();
     for input in inputs {
-        let Loaded { data, planar } = load(input)?;
+        let Loaded { data, planar } = load(input, &[])?;
         let optimizer = Optimizer::new(&planar.mesh);
         let mut results = Vec::new();
         for options in &configs {
@@ -768,7 +800,7 @@ fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Res
             output.display()
         )));
     }
-    let Loaded { mut planar, .. } = load(input)?;
+    let Loaded { mut planar, .. } = load(input, &opts.fix_physical)?;
     let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let title = if optimized {
         let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
@@ -886,7 +918,7 @@ fn run_data_dir() -> Result<(), Fail> {
     let mut failed = 0;
     for path in &files {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let result = load(path).and_then(|Loaded { data, mut planar }| {
+        let result = load(path, &[]).and_then(|Loaded { data, mut planar }| {
             let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
             Ok((data, report))
         });

@@ -1,7 +1,12 @@
-//! Gmsh MSH, ASCII, versions 2.x and 4.1 (see the module docs of [`crate::io`]).
+//! Gmsh MSH: ASCII versions 2.x and 4.1 here, binary 4.1 in [`binary`], physical groups in
+//! [`groups`] (see the module docs of [`crate::io`]).
+
+mod binary;
+mod groups;
 
 use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize, try_push, try_vec};
-use super::{IoError, MeshData, MshVersion, Num};
+use super::{Encoding, IoError, MeshData, MshVersion, Num};
+use groups::Groups;
 use std::collections::HashMap;
 use std::io::Write;
 
@@ -77,6 +82,15 @@ fn resolve(tags: &NodeTags, line: usize, element: usize, q: [u64; 4]) -> Result<
     Ok(out)
 }
 
+/// Reads an MSH file's bytes: binary 4.1 or text.
+pub(super) fn read_bytes(bytes: &[u8]) -> Result<MeshData, IoError> {
+    if binary::is_binary(bytes) {
+        return binary::read(bytes);
+    }
+    let text = String::from_utf8_lossy(bytes);
+    read(text.strip_prefix('\u{feff}').unwrap_or(&text))
+}
+
 /// Reads an MSH text.
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let mut lex = Lexer::new(text, 1, None);
@@ -91,8 +105,12 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
         _ => return Err(IoError::Unsupported(format!("MSH version {} (2.2 and 4.1 are read)", clip(v.s)))),
     };
     let file_type = lex.next("the file type")?;
+    if file_type.s == "1" {
+        // Binary data that came as text (`read_mesh_str`): it is read as bytes.
+        return binary::read(text.as_bytes());
+    }
     if file_type.s != "0" {
-        return Err(IoError::Unsupported("binary MSH files (save the mesh as ASCII)".into()));
+        return Err(err(file_type, format!("file type '{}' (0 for ASCII, 1 for binary)", clip(file_type.s))));
     }
     lex.next("the data size")?;
     expect(&mut lex, "$EndMeshFormat")?;
@@ -102,6 +120,7 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let mut elements: Option<Elements> = None;
     let (mut have_nodes, mut have_elements) = (false, false);
     let mut fixed = None;
+    let mut groups = Groups::default();
     while let Some(t) = lex.peek() {
         lex.next("")?;
         match t.s {
@@ -118,11 +137,26 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
                 let mut e = Elements::default();
                 let known = have_nodes.then_some(&tags);
                 match version {
-                    MshVersion::V2_2 => read_elements_v2(&mut lex, known, &mut e)?,
-                    MshVersion::V4_1 => read_elements_v4(&mut lex, known, &mut e)?,
+                    MshVersion::V2_2 => read_elements_v2(&mut lex, known, &mut e, &mut groups)?,
+                    MshVersion::V4_1 => read_elements_v4(&mut lex, known, &mut e, &mut groups)?,
                 }
                 expect(&mut lex, "$EndElements")?;
                 elements = Some(e);
+            }
+            "$PhysicalNames" => {
+                let n = lex.usize("the physical name count")?;
+                for _ in 0..n {
+                    let line = lex.rest_of_line("a physical name")?;
+                    let words: Vec<&str> = line.iter().map(|t| t.s).collect();
+                    let (dim, tag, name) = physical_name(&words.join(" "))
+                        .ok_or_else(|| err(line[0], "a physical name is: dimension tag \"name\"".into()))?;
+                    groups.name(dim, tag, name);
+                }
+                expect(&mut lex, "$EndPhysicalNames")?;
+            }
+            "$Entities" if version == MshVersion::V4_1 => {
+                read_entities(&mut lex, &mut groups)?;
+                expect(&mut lex, "$EndEntities")?;
             }
             "$NodeData" if have_nodes => {
                 if let Some(flags) = read_node_flags(&mut lex, &tags, points.len(), "fixed")? {
@@ -145,14 +179,59 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     for (line, element, q) in raw {
         try_push(&mut quads, resolve(&tags, line, element, q)?, "quads")?;
     }
+    let physical_groups = groups.finish(&tags)?;
     Ok(MeshData {
         points,
         quads,
         fixed,
         msh_version: Some(version),
         vtk_polydata: false,
+        physical_groups,
         ..MeshData::default()
     })
+}
+
+/// One `$PhysicalNames` line: `dim tag "name"` (the name may hold spaces; its quotes are
+/// dropped, and a name without them is taken as it stands).
+fn physical_name(line: &str) -> Option<(u8, i32, String)> {
+    let mut words = line.trim().splitn(3, |c: char| c.is_ascii_whitespace());
+    let dim = words.next()?.parse().ok()?;
+    let tag = words.next()?.parse().ok()?;
+    let name = words.next().unwrap_or("").trim();
+    let name = name.strip_prefix('"').and_then(|n| n.strip_suffix('"')).unwrap_or(name);
+    Some((dim, tag, name.to_string()))
+}
+
+/// MSH 4.1 ASCII `$Entities`: the physical tags of each point and curve (one entity a line).
+fn read_entities(lex: &mut Lexer<'_>, groups: &mut Groups) -> Result<(), IoError> {
+    let counts = [
+        lex.usize("the point entity count")?,
+        lex.usize("the curve entity count")?,
+        lex.usize("the surface entity count")?,
+        lex.usize("the volume entity count")?,
+    ];
+    for (dim, &count) in counts.iter().enumerate() {
+        // A point has x y z; the others a bounding box.
+        let coordinates = if dim == 0 { 3 } else { 6 };
+        for _ in 0..count {
+            let line = lex.rest_of_line("an entity")?;
+            let at = |i: usize| {
+                line.get(i).copied().ok_or_else(|| err(line[0], "the entity line ends early".into()))
+            };
+            let tag = parse_i32(at(0)?)?;
+            let n = parse_usize(at(1 + coordinates)?, "the physical tag count")?;
+            let mut physicals = Vec::new();
+            for i in 0..n {
+                try_push(&mut physicals, parse_i32(at(2 + coordinates + i)?)?, "physical tags")?;
+            }
+            groups.entity(dim as u8, tag, physicals);
+        }
+    }
+    Ok(())
+}
+
+fn parse_i32(t: Tok<'_>) -> Result<i32, IoError> {
+    t.s.parse().map_err(|_| err(t, format!("expected a tag (an integer), found '{}'", clip(t.s))))
 }
 
 fn err(t: Tok<'_>, message: String) -> IoError {
@@ -299,6 +378,7 @@ fn read_elements_v2(
     lex: &mut Lexer<'_>,
     tags: Option<&NodeTags>,
     elements: &mut Elements,
+    groups: &mut Groups,
 ) -> Result<(), IoError> {
     let n = lex.usize("the element count")?;
     for index in 0..n {
@@ -316,6 +396,13 @@ fn read_elements_v2(
             line: l,
             message: format!("the element has fewer than {ntags} tags"),
         })?;
+        // The first tag is the physical group; 0 (or no tags) is none, whose nodes are not read.
+        if let (Some(dim), true) = (groups::low_dimension(ty), ntags > 0) {
+            let physical = parse_i32(line[3])?.abs();
+            if physical != 0 {
+                groups.element_of_physical(dim, physical, &node_tags(nodes)?)?;
+            }
+        }
         element(l, index, ty, nodes, tags, elements)?;
     }
     Ok(())
@@ -325,6 +412,7 @@ fn read_elements_v4(
     lex: &mut Lexer<'_>,
     tags: Option<&NodeTags>,
     elements: &mut Elements,
+    groups: &mut Groups,
 ) -> Result<(), IoError> {
     let blocks = lex.usize("the entity block count")?;
     let total = lex.usize("the element count")?;
@@ -333,11 +421,16 @@ fn read_elements_v4(
     let mut index = 0;
     for _ in 0..blocks {
         lex.usize("the entity dimension")?;
-        lex.next("the entity tag")?;
+        let t = lex.next("the entity tag")?;
+        let entity = parse_i32(t)?;
         let ty = lex.usize("the element type")?;
+        let low = groups::low_dimension(ty);
         let n = lex.usize("the block's element count")?;
         for _ in 0..n {
             let line = lex.rest_of_line("an element")?;
+            if let Some(dim) = low {
+                groups.element_of_entity(dim, entity, &node_tags(&line[1..])?)?;
+            }
             element(line[0].line, index, ty, &line[1..], tags, elements)?;
             index += 1;
         }
@@ -348,8 +441,16 @@ fn read_elements_v4(
     Ok(())
 }
 
+/// The node tags of an element's line (a point or line element has at most 6).
+fn node_tags(nodes: &[Tok<'_>]) -> Result<Vec<u64>, IoError> {
+    nodes.iter().take(6).map(|&t| tag(t, "a node tag")).collect()
+}
+
 /// Writes an MSH text in the version the mesh was read in (4.1 by default).
 pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
+    if data.encoding != Encoding::Ascii {
+        return binary::write(w, data);
+    }
     let (n, m) = (data.points.len(), data.quads.len());
     match data.msh_version.unwrap_or_default() {
         MshVersion::V2_2 => {

@@ -253,7 +253,7 @@ fn draw_writes_a_coloured_svg() {
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
     assert_eq!(text.matches("<path ").count(), 16);
-    assert!(text.contains("linearGradient") && text.contains("scaled Jacobian"));
+    assert!(text.contains("linearGradient") && text.contains(">scaled<") && text.contains(">Jacobian<"));
     // The jitter inverts quads: some fill is a dark red (green and blue 0, red below 255).
     assert!(
         text.split("fill=\"#").skip(1).any(|t| &t[2..6] == "0000" && &t[..2] != "ff"),

@@ -213,14 +213,15 @@ fn draw_checks_its_extension() {
     let dir = scratch("draw");
     let input = dir.join("in.obj");
     io::write_mesh(&input, &square()).unwrap();
-    for bad in ["out.vtk", "out", "out.svg.png"] {
+    for bad in ["out.vtk", "out", "out.png.txt"] {
         let r = quadopt(&["draw", s(&input), "-o", s(&dir.join(bad))]);
         assert_eq!(r.status.code(), Some(1), "{bad}");
         let err = String::from_utf8(r.stderr).unwrap();
-        assert!(err.contains("expected the extension .svg") && err.lines().count() == 1, "{err}");
+        assert!(err.contains("expected the extension .png or .svg") && err.lines().count() == 1, "{err}");
     }
     assert!(quadopt(&["draw", s(&input), "-o", s(&dir.join("ok.SVG"))]).status.success());
-    assert_eq!(names(&dir), ["in.obj", "ok.SVG"]);
+    assert!(quadopt(&["draw", s(&input), "-o", s(&dir.join("ok.PNG"))]).status.success());
+    assert_eq!(names(&dir), ["in.obj", "ok.PNG", "ok.SVG"]);
     fs::remove_dir_all(&dir).unwrap();
 }
 

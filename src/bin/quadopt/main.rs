@@ -3,7 +3,7 @@
 //! - `quadopt` with no arguments optimizes every mesh in the bundled `data/` directory and
 //!   prints a report like the paper's Table 1.
 //! - `quadopt optimize IN -o OUT`, `quadopt quality IN`, `quadopt compare IN...`,
-//!   `quadopt draw IN -o OUT.svg`: see `quadopt help`.
+//!   `quadopt draw IN -o OUT.png` (or `.svg`): see `quadopt help`.
 //!
 //! Errors are one line on stderr, `quadopt: error: ...`; the exit code is 2 for usage errors,
 //! 1 for anything else. Output files are written as [`quadopt::io::output`] describes (a
@@ -11,7 +11,7 @@
 //! stdout, and the report then goes to stderr.
 
 mod openmesh_io;
-mod svg;
+mod picture;
 
 /// Whether the report goes to stderr because stdout carries the output mesh (`-o -`).
 static REPORT_ON_STDERR: AtomicBool = AtomicBool::new(false);
@@ -133,6 +133,10 @@ enum Command {
         encoding: EncodingArgs,
         #[command(flatten)]
         opts: OptArgs,
+        /// Also draw the input and the output side by side, with a histogram of both (.png
+        /// or .svg, by extension).
+        #[arg(long, value_name = "OUT.png")]
+        picture: Option<PathBuf>,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -165,16 +169,20 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Draw a mesh as SVG, quads coloured by scaled Jacobian.
+    /// Draw a mesh as PNG or SVG (by extension), quads coloured by scaled Jacobian.
     Draw {
         /// Input mesh.
         input: PathBuf,
-        /// Output SVG file (.svg); `-` writes to stdout.
+        /// Output picture (.png or .svg); `-` writes SVG to stdout.
         #[arg(short, long)]
         output: PathBuf,
         /// Optimize first (with the options below) and draw the result.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "before_after")]
         optimized: bool,
+        /// Optimize (with the options below) and draw input and output side by side on one
+        /// colour scale, each with its min, avg and inverted count, and a histogram of both.
+        #[arg(long)]
+        before_after: bool,
         #[command(flatten)]
         opts: OptArgs,
     },
@@ -355,14 +363,21 @@ fn main() -> ExitCode {
 fn dispatch(command: Option<Command>) -> Result<(), Fail> {
     match command {
         None => run_data_dir(),
-        Some(Command::Optimize { input, output, format, encoding, opts, json }) => {
-            cmd_optimize(&input, &output, format, &encoding, &opts, json)
+        Some(Command::Optimize { input, output, format, encoding, opts, picture, json }) => {
+            cmd_optimize(&input, &output, format, &encoding, &opts, picture.as_deref(), json)
         }
         Some(Command::Quality { input, output, format, encoding, json }) => {
             cmd_quality(&input, output.as_deref(), format, &encoding, json)
         }
         Some(Command::Compare { inputs, tune, json }) => cmd_compare(&inputs, &tune, json),
-        Some(Command::Draw { input, output, optimized, opts }) => cmd_draw(&input, &output, optimized, &opts),
+        Some(Command::Draw { input, output, optimized, before_after, opts }) => {
+            let what = match (optimized, before_after) {
+                (_, true) => Drawn::BeforeAfter,
+                (true, _) => Drawn::Optimized,
+                _ => Drawn::Input,
+            };
+            cmd_draw(&input, &output, what, &opts)
+        }
         Some(Command::Generate { output, format, quads, nx, ny, holes, hole_size, jitter, seed }) => {
             let spec = match quads {
                 Some(n) => Synthetic { holes, hole_size, jitter, seed, ..Synthetic::with_quads(n) },
@@ -563,9 +578,14 @@ fn cmd_optimize(
     format: Option<Format>,
     encoding: &EncodingArgs,
     opts: &OptArgs,
+    picture: Option<&Path>,
     as_json: bool,
 ) -> Result<(), Fail> {
     let options = opts.options()?;
+    if picture.is_some_and(is_stdout) {
+        return Err(Fail::Usage("--picture needs a file name (- is where draw writes to stdout)".into()));
+    }
+    let picture_format = picture.map(PictureFormat::of).transpose()?;
     let format = if openmesh_io::handles_output(output) {
         openmesh_io::check_output(output)?;
         None
@@ -578,9 +598,27 @@ fn cmd_optimize(
     // `write_back` puts the quads back: meanwhile the file's copy is 16 bytes a quad for
     // nothing, as is the topology once the run is over (the writers need memory too).
     data.quads = Vec::new();
+    // The input as it was, for the picture only (a copy of the 2D mesh).
+    let before =
+        picture.map(|_| planar.mesh.try_clone()).transpose().map_err(|e| Fail::Other(e.to_string()))?;
     let optimizer = Optimizer::new(&planar.mesh);
     let report = run(&optimizer, &mut planar.mesh, &options, !as_json)?;
     drop(optimizer);
+    if let (Some(path), Some(f), Some(before)) = (picture, picture_format, &before) {
+        let title = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let headings = [
+            "input".to_string(),
+            format!("optimized ({}, {})", options.method.name(), options.boundary.name()),
+        ];
+        let p = picture::layout::before_after(
+            before,
+            &planar.mesh,
+            &title,
+            headings.each_ref().map(String::as_str),
+        );
+        write_picture(path, f, &p)?;
+    }
+    drop(before);
     let moved = planar.write_back(&mut data);
     annotate(&mut data, &planar, corners);
     encoding.apply(&mut data);
@@ -607,6 +645,9 @@ fn cmd_optimize(
             "input_file": input.display().to_string(),
             "output_file": output.display().to_string(),
         });
+        if let Some(path) = picture {
+            v["picture_file"] = json!(path.display().to_string());
+        }
         if let (Value::Object(v), Value::Object(extra)) = (&mut v, report_json(&report)) {
             v.extend(extra);
         }
@@ -641,22 +682,15 @@ fn cmd_optimize(
         f.hausdorff_relative
     );
     print_tangled(&report);
+    if let Some(path) = picture {
+        outln!("wrote the picture {}", path.display());
+    }
     if is_stdout(output) {
         outln!("wrote the mesh to stdout");
     } else {
         outln!("wrote {}", output.display());
     }
     Ok(())
-}
-
-/// Counts of quads with scaled Jacobian <= 0 and in ten bins of width 0.1 over (0, 1].
-fn histogram(values: &[f64]) -> [usize; 11] {
-    let mut h = [0usize; 11];
-    for &v in values {
-        let bin = if v <= 0.0 || v.is_nan() { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
-        h[bin] += 1;
-    }
-    h
 }
 
 /// Per-vertex corner flags of `mesh` (the corners `options` keep in place).
@@ -703,7 +737,7 @@ fn cmd_quality(
         REPORT_ON_STDERR.store(is_stdout(output), Ordering::Relaxed);
     }
     let s = QualityStats::from_values(&values);
-    let h = histogram(&values);
+    let h = picture::histogram(&values);
     if as_json {
         let mut v = stats_json(&s);
         v["file"] = json!(input.display().to_string());
@@ -791,42 +825,86 @@ fn cmd_compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
     Ok(())
 }
 
-fn cmd_draw(input: &Path, output: &Path, optimized: bool, opts: &OptArgs) -> Result<(), Fail> {
-    let options = opts.options()?;
-    let is_svg = output.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if !is_svg && !is_stdout(output) {
-        return Err(Fail::Other(format!(
-            "{}: not an SVG file name (expected the extension .svg, or - for stdout)",
-            output.display()
-        )));
+/// What `draw` draws.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Drawn {
+    Input,
+    Optimized,
+    BeforeAfter,
+}
+
+/// A picture file's format, from its name.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum PictureFormat {
+    Svg,
+    Png,
+}
+
+impl PictureFormat {
+    /// `.png` or `.svg` (any case); `-` (stdout) is SVG.
+    fn of(path: &Path) -> Result<PictureFormat, Fail> {
+        if is_stdout(path) {
+            return Ok(PictureFormat::Svg);
+        }
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("svg") => Ok(PictureFormat::Svg),
+            Some("png") => Ok(PictureFormat::Png),
+            _ => Err(Fail::Other(format!(
+                "{}: not a picture file name (expected the extension .png or .svg, or - for SVG on stdout)",
+                path.display()
+            ))),
+        }
     }
-    let Loaded { mut planar, .. } = load(input, &opts.fix_physical)?;
-    let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let title = if optimized {
-        let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
-        format!(
-            "{name} optimized ({}, {}): min {:.3}, avg {:.3}, {} inverted",
-            options.method.name(),
-            options.boundary.name(),
-            report.output.min,
-            report.output.avg,
-            report.output.inverted
-        )
-    } else {
-        let q = planar.mesh.quality();
-        format!("{name}: min {:.3}, avg {:.3}, {} inverted", q.min, q.avg, q.inverted)
+}
+
+/// Writes `picture` to `path` (or stdout for `-`) in `format`.
+fn write_picture(path: &Path, format: PictureFormat, picture: &picture::Picture) -> Result<(), Fail> {
+    let bytes = match format {
+        PictureFormat::Svg => picture::svg::render(picture).into_bytes(),
+        PictureFormat::Png => {
+            picture::png::render(picture).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?
+        }
     };
-    let text = svg::render(&planar.mesh, &title);
-    if is_stdout(output) {
+    if is_stdout(path) {
         use std::io::Write as _;
         let mut out = std::io::stdout().lock();
-        out.write_all(text.as_bytes())
+        out.write_all(&bytes)
             .and_then(|()| out.flush())
             .map_err(|e| Fail::Other(format!("cannot write to stdout: {e}")))?;
     } else {
-        io::write_file(output, text.as_bytes())?;
+        io::write_file(path, &bytes)?;
     }
     Ok(())
+}
+
+fn cmd_draw(input: &Path, output: &Path, what: Drawn, opts: &OptArgs) -> Result<(), Fail> {
+    let options = opts.options()?;
+    let format = PictureFormat::of(output)?;
+    let Loaded { mut planar, .. } = load(input, &opts.fix_physical)?;
+    let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let optimized = format!("optimized ({}, {})", options.method.name(), options.boundary.name());
+    let picture = match what {
+        Drawn::Input => {
+            let q = planar.mesh.quality();
+            picture::layout::single(
+                &planar.mesh,
+                &format!("{name}: min {:.3}, avg {:.3}, {} inverted", q.min, q.avg, q.inverted),
+            )
+        }
+        Drawn::Optimized => {
+            let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
+            let o = report.output;
+            let title =
+                format!("{name} {optimized}: min {:.3}, avg {:.3}, {} inverted", o.min, o.avg, o.inverted);
+            picture::layout::single(&planar.mesh, &title)
+        }
+        Drawn::BeforeAfter => {
+            let before = planar.mesh.try_clone().map_err(|e| Fail::Other(e.to_string()))?;
+            run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
+            picture::layout::before_after(&before, &planar.mesh, &name, ["input", &optimized])
+        }
+    };
+    write_picture(output, format, &picture)
 }
 
 fn cmd_generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Result<(), Fail> {

@@ -1,0 +1,137 @@
+//! Pictures of quad meshes coloured by scaled Jacobian (red for 0 and below, white for 1, as
+//! in the paper's figures): one mesh ([`layout::single`]), or input and output side by side
+//! on one colour scale with a histogram of both ([`layout::before_after`]).
+//!
+//! A layout builds a [`Picture`], a display list in pixels; [`svg`] and [`png`] render the same
+//! list, so both formats show the same thing. Text is measured with the PNG renderer's 8x8
+//! bitmap font (a glyph cell of `size` pixels a character); SVG's monospace glyphs are
+//! narrower, so a layout that keeps every item inside the frame keeps it there in both.
+
+pub mod layout;
+pub mod png;
+pub mod svg;
+
+/// An sRGB colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+impl Rgb {
+    pub const BLACK: Rgb = Rgb(0, 0, 0);
+    pub const EDGE: Rgb = Rgb(0x55, 0x55, 0x55);
+}
+
+/// The fill colour of a scaled Jacobian: dark red at -1, red at 0, white at 1.
+pub fn colour(sj: f64) -> Rgb {
+    let sj = if sj.is_finite() { sj.clamp(-1.0, 1.0) } else { -1.0 };
+    if sj >= 0.0 {
+        let c = (255.0 * sj).round() as u8;
+        Rgb(255, c, c)
+    } else {
+        Rgb((255.0 - 127.0 * -sj).round() as u8, 0, 0)
+    }
+}
+
+/// One quad of a mesh panel, in picture coordinates (y down).
+#[derive(Clone, Copy, Debug)]
+pub struct Quad {
+    pub corners: [[f32; 2]; 4],
+    /// Its scaled Jacobian (the fill colour, and the SVG tooltip).
+    pub sj: f32,
+}
+
+/// Where a text's `x` is: its left end, or its centre.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Anchor {
+    Start,
+    Middle,
+}
+
+/// One thing drawn, in the order given (later items over earlier ones).
+#[derive(Clone, Debug)]
+pub enum Item {
+    /// A mesh: every quad filled by its colour, edges `stroke` pixels wide.
+    Quads { quads: Vec<Quad>, stroke: f32 },
+    /// A rectangle; `tooltip` is SVG's `<title>` (PNG ignores it).
+    Rect { x: f32, y: f32, w: f32, h: f32, fill: Rgb, stroke: Option<Rgb>, tooltip: Option<String> },
+    /// The colour scale from 1 at the top to -1 at the bottom.
+    ColourBar { x: f32, y: f32, w: f32, h: f32 },
+    /// One line of ASCII text whose glyph cells are `size` pixels square, `y` its top.
+    Text { x: f32, y: f32, size: u32, anchor: Anchor, text: String },
+}
+
+/// A display list and its frame, in pixels.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    pub width: u32,
+    pub height: u32,
+    pub items: Vec<Item>,
+}
+
+/// The size of text, in pixels a glyph cell (a multiple of 8: the font's cells are 8x8).
+pub const TEXT: u32 = 16;
+
+/// The width of `text` in glyph cells of `size` pixels.
+pub fn text_width(text: &str, size: u32) -> f32 {
+    (text.chars().count() as u32 * size) as f32
+}
+
+impl Item {
+    /// The box the item covers: (left, top, right, bottom).
+    pub fn bounds(&self) -> (f32, f32, f32, f32) {
+        match self {
+            Item::Quads { quads, stroke } => {
+                let mut b = (f32::INFINITY, f32::INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY);
+                for p in quads.iter().flat_map(|q| q.corners) {
+                    b = (b.0.min(p[0]), b.1.min(p[1]), b.2.max(p[0]), b.3.max(p[1]));
+                }
+                let s = stroke / 2.0;
+                (b.0 - s, b.1 - s, b.2 + s, b.3 + s)
+            }
+            Item::Rect { x, y, w, h, .. } | Item::ColourBar { x, y, w, h } => (*x, *y, x + w, y + h),
+            Item::Text { x, y, size, anchor, text } => {
+                let w = text_width(text, *size);
+                let left = if *anchor == Anchor::Middle { x - w / 2.0 } else { *x };
+                (left, *y, left + w, y + *size as f32)
+            }
+        }
+    }
+}
+
+/// The quads of `values` by their bins: `counts[0]` those at or below 0 (the inverted ones,
+/// as [`quadopt::QualityStats::inverted`] counts them, and NaN), then `counts[k]` those in
+/// `((k - 1) / 10, k / 10]` for k = 1..10. `quality` prints and reports the same bins.
+pub fn histogram(values: &[f64]) -> [usize; 11] {
+    let mut counts = [0; 11];
+    for &v in values {
+        let bin = if v.is_nan() || v <= 0.0 { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
+        counts[bin] += 1;
+    }
+    counts
+}
+
+/// The labels of [`histogram`]'s bins.
+pub const BIN_LABELS: [&str; 11] =
+    ["<=0", "0-.1", ".1-.2", ".2-.3", ".3-.4", ".4-.5", ".5-.6", ".6-.7", ".7-.8", ".8-.9", ".9-1"];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn histogram_bins_as_the_inverted_count_and_tenths() {
+        let values = [-0.5, 0.0, 1e-9, 0.099, 0.1, 0.10001, 0.25, 0.95, 0.999, 1.0, f64::NAN];
+        let h = histogram(&values);
+        assert_eq!(h, [3, 3, 1, 1, 0, 0, 0, 0, 0, 0, 3]);
+        assert_eq!(h.iter().sum::<usize>(), values.len());
+        assert_eq!(h[0], quadopt::QualityStats::from_values(&values[..10]).inverted + 1);
+    }
+
+    #[test]
+    fn colours_run_from_dark_red_through_red_to_white() {
+        assert_eq!(colour(-1.0), Rgb(128, 0, 0));
+        assert_eq!(colour(0.0), Rgb(255, 0, 0));
+        assert_eq!(colour(0.5), Rgb(255, 128, 128));
+        assert_eq!(colour(1.0), Rgb(255, 255, 255));
+        assert_eq!(colour(f64::NAN), colour(-1.0));
+    }
+}

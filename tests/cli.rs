@@ -287,6 +287,32 @@ fn no_arguments_reports_on_the_bundled_meshes() {
 }
 
 #[test]
+fn reports_name_paths_as_the_user_gave_them() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_quadopt")).args(args).current_dir(root).output().unwrap()
+    };
+    let absolute = root.to_str().unwrap();
+    // The sample report run from the project's root (as the README shows it) names `data`.
+    let out = run(&[]);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(stdout.starts_with("quadopt: 12 meshes in data, "), "{stdout}");
+    assert!(!stdout.contains(absolute), "{stdout}");
+    // Relative input and output paths stay relative in text and JSON reports.
+    let target = std::env::temp_dir().join(format!("quadopt-paths-{}.vtk", std::process::id()));
+    let v = json_stdout(&run(&["optimize", "data/plate_1hole.vtk", "-o", s(&target), "--json"]));
+    assert_eq!(v["input_file"], "data/plate_1hole.vtk");
+    assert_eq!(v["output_file"], s(&target));
+    let v = json_stdout(&run(&["quality", "./data/plate_1hole.vtk", "--json"]));
+    assert_eq!(v["file"], "./data/plate_1hole.vtk");
+    let text =
+        String::from_utf8(run(&["optimize", "data/plate_1hole.vtk", "-o", s(&target)]).stdout).unwrap();
+    assert!(text.starts_with("data/plate_1hole.vtk: 70 vertices"), "{text}");
+    assert!(!text.contains(absolute), "{text}");
+    std::fs::remove_file(&target).unwrap();
+}
+
+#[test]
 fn generate_writes_the_requested_synthetic_mesh() {
     let dir = scratch("generate");
     let path = dir.join("grid.obj");

@@ -1,5 +1,5 @@
-//! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII), Gmsh MSH (ASCII 2.2 and 4.1) and VTK
-//! XML UnstructuredGrid (`.vtu`), read and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
+//! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII), Gmsh MSH (ASCII 2.2 and 4.1, binary 4.1)
+//! and VTK XML UnstructuredGrid (`.vtu`), read and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
 //! 2D [`QuadMesh`](crate::QuadMesh) the optimizer works on ([`planar`]).
 //!
 //! # Why hand-written parsers
@@ -22,12 +22,15 @@
 //!   `POLYGONS`, in the classic `CELLS n size` layout or VTK 5.1's `OFFSETS`/`CONNECTIVITY`.
 //!   A point-data array named `fixed` (`SCALARS` or `FIELD`, any numeric or `bit` type) gives
 //!   the fixed flags (nonzero = fixed); every other attribute is skipped.
-//! - MSH ASCII 2.x and 4.1: nodes in file order (tags may be sparse), 4-node quads (type 3).
-//!   Point and line elements (Gmsh writes them for corners and boundary curves) are skipped;
-//!   any other element (triangles, higher-order quads, volumes) is an error. A one-component
-//!   `$NodeData` view named `fixed` gives the fixed flags (nonzero = fixed); other views are
-//!   skipped.
-//!
+//! - MSH ASCII 2.x and 4.1, and binary 4.1 (gmsh's `Mesh.Binary=1`; the byte-order integer
+//!   is checked, binary 2.2 is refused): nodes in file order (tags may be sparse), 4-node quads
+//!   (type 3). Point and line elements (Gmsh writes them for corners and boundary curves) are
+//!   skipped as elements but give the nodes of the physical groups ([`MeshData::physical_groups`]:
+//!   `$PhysicalNames`, with `$Entities` in 4.1 and the elements' tags in 2.x); any other
+//!   element (triangles, higher-order quads, volumes) is an error. A one-component `$NodeData`
+//!   view named `fixed` gives the fixed flags (nonzero = fixed); other views are skipped.
+//!   Written in the version and encoding read (ASCII 4.1 by default); physical groups are not
+//!   written back.
 //! - VTU: one `<Piece>` of quad cells (type 9), data arrays in ASCII, inline base64 or
 //!   appended (raw or base64) form, either byte order, UInt32 or UInt64 headers, zlib
 //!   compression or none; the point-data array `fixed` gives the fixed flags. Other arrays
@@ -129,7 +132,7 @@ pub enum Format {
     Off,
     /// Legacy VTK, ASCII (`.vtk`).
     Vtk,
-    /// Gmsh MSH, ASCII (`.msh`).
+    /// Gmsh MSH (`.msh`): ASCII 2.2 and 4.1, binary 4.1.
     Msh,
     /// VTK XML UnstructuredGrid (`.vtu`): ASCII, base64 or appended raw, zlib or not.
     Vtu,

@@ -966,7 +966,7 @@ fn run_data_dir() -> Result<(), Fail> {
     };
     if files.is_empty() {
         return Err(Fail::Other(format!(
-            "no sample meshes (.obj, .off, .vtk, .msh) in {} (run `quadopt --help` for the commands)",
+            "no sample meshes (.obj, .off, .vtk, .msh, .vtu) in {} (run `quadopt --help` for the commands)",
             dir.display()
         )));
     }

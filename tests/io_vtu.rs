@@ -184,6 +184,18 @@ fn malformed_files_give_one_line_errors() {
     let m = err(&broken);
     assert!(m.contains(r#"DataArray "Points": bad base64"#), "{m}");
 
+    // A compressed header whose first three words end in base64 padding (they decode to 23
+    // bytes, not 24): found by the read_vtu fuzz target, once a panic.
+    let zb = vtk_file("binary_zlib.vtu");
+    let text = String::from_utf8(zb.clone()).unwrap();
+    let start = text.find(r#"Name="Points""#).unwrap();
+    let data_at = start + text[start..].find('>').unwrap() + 1;
+    let data_at = data_at + text[data_at..].find(|c: char| !c.is_whitespace()).unwrap();
+    let mut padded = zb.clone();
+    padded[data_at..data_at + 32].copy_from_slice(b"gAAAAAAAAAYAAAAAAAAACwAAAAAAAAA=");
+    let m = err(&padded);
+    assert!(m.contains(r#"DataArray "Points""#), "{m}");
+
     // An unknown compressor is named.
     let z = vtk_file("appended_zlib.vtu");
     let m = err(&replace(&z, "vtkZLibDataCompressor", "vtkLZ4DataCompressor"));

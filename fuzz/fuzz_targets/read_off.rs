@@ -4,16 +4,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use quadopt::io::{self, Format};
+use quadopt::io::Format;
 
 fuzz_target!(|data: &[u8]| {
     quadopt_fuzz::check_reader(data, Format::Off);
-    const BOM: &[u8] = b"\xef\xbb\xbf";
-    if !data.starts_with(BOM) {
-        let with_bom = [BOM, data].concat();
-        assert_eq!(
-            io::read_mesh_bytes(data, Format::Off).ok(),
-            io::read_mesh_bytes(&with_bom, Format::Off).ok()
-        );
-    }
+    quadopt_fuzz::check_bom(data, Format::Off);
 });

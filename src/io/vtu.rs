@@ -518,6 +518,10 @@ impl Decoder<'_> {
     /// Checks a compressed header's first three words: (block count, header length in bytes).
     fn compressed_header(&self, head: &[u8], expected: usize, name: &str) -> Result<(usize, usize), IoError> {
         let ws = self.info.header.size();
+        // Base64 padding inside the first words decodes to fewer bytes than they need.
+        if head.len() < 3 * ws {
+            return Err(bad(format!("DataArray {name:?}: the compression header ends early")));
+        }
         let (blocks, block, last) = (self.word(head), self.word(&head[ws..]), self.word(&head[2 * ws..]));
         let total = if blocks == 0 {
             0

@@ -5,9 +5,9 @@
 //! Prints per mesh the default run's min/avg and time, then the stage's min/avg, rounds,
 //! moves and time (and its share of the default run's time).
 
-use quadopt::features::Features;
-use quadopt::smooth::boundary::BoundaryGeometry;
-use quadopt::smooth::maxmin::{LocalSolver, MaxMinSettings, max_min_stage};
+use quadopt::Features;
+use quadopt::testing::BoundaryGeometry;
+use quadopt::testing::{LocalSolver, MaxMinSettings, max_min_stage};
 use quadopt::{DVec2, Options, QuadMesh, Topology, io, optimize};
 use std::time::Instant;
 

@@ -28,34 +28,51 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod alloc;
-pub mod error;
-pub mod features;
-/// The C ABI (`include/quadopt.h`): with `pool`, the only modules with `unsafe` code.
+// The public surface is what the README promises: the optimizer's types (re-exported below),
+// `io` (files), `quality` (the scaled Jacobian) and `synthetic` (benchmark meshes). Everything
+// else is internal; `testing` reaches a few internals for the crate's own integration tests.
+pub(crate) mod alloc;
+pub(crate) mod error;
+pub(crate) mod features;
+/// The C ABI (`include/quadopt.h`): with `pool`, the only modules with `unsafe` code. Hidden
+/// from the Rust documentation: Rust callers use the types above; C callers read the header.
 #[allow(unsafe_code)]
+#[doc(hidden)]
 pub mod ffi;
 pub mod io;
-pub mod mesh;
-pub mod normalization;
+pub(crate) mod mesh;
+pub(crate) mod normalization;
 /// The process's worker pool (its `unsafe`: a published pool pointer that is never freed).
 #[allow(unsafe_code)]
 mod pool;
 pub mod quality;
 mod renumbering;
-pub mod smooth;
+pub(crate) mod smooth;
 pub mod synthetic;
 #[cfg(test)]
 mod test_rng;
-pub mod topology;
+pub(crate) mod topology;
 
 pub use error::{Error, Result};
+pub use features::Features;
 pub use glam::DVec2;
 pub use mesh::QuadMesh;
 pub use quality::QualityStats;
 pub use smooth::{
-    BoundaryMode, MaxMinGain, Method, Optimizer, Options, Progress, Report, StopRule, optimize,
+    BoundaryFidelity, BoundaryMode, MaxMinGain, Method, Optimizer, Options, Progress, Report, StopRule,
+    TangleReason, TangledQuad, optimize,
 };
-pub use topology::Topology;
+pub use topology::{Topology, VertexKind};
+
+/// Internals that the crate's integration tests (tests/) drive directly: the max-min stage
+/// on its own and the exact power-of-two scaling. Not part of the API: may change at any
+/// release.
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::normalization::scale_by_power_of_two;
+    pub use crate::smooth::boundary::BoundaryGeometry;
+    pub use crate::smooth::maxmin::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
+}
 
 /// The README's Rust example, compiled and run as a doc test.
 #[cfg(doctest)]

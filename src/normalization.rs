@@ -170,23 +170,27 @@ impl Normalization {
         self.grid == FINEST_GRID && self.unit == 1.0
     }
 
+    #[cfg(test)]
     /// The centre subtracted before scaling.
     pub fn origin(&self) -> DVec2 {
         self.origin
     }
 
+    #[cfg(test)]
     /// The power of two the coordinates are scaled by before the division by
     /// [`Normalization::unit`].
     pub fn exponent(&self) -> i32 {
         self.exponent
     }
 
+    #[cfg(test)]
     /// The box's larger half-extent after the power-of-two scaling, in [0.5, 1) (1 for the
     /// identity).
     pub fn unit(&self) -> f64 {
         self.unit
     }
 
+    #[cfg(test)]
     /// Normalized coordinates are multiples of `2^-grid_exponent`.
     pub fn grid_exponent(&self) -> i32 {
         self.grid
@@ -338,6 +342,7 @@ impl Normalized {
         &self.original
     }
 
+    #[cfg(test)]
     /// How many vertices were left off the grid to keep a quad's sign (all of them when the
     /// check gave up).
     pub fn unrounded_count(&self) -> usize {

@@ -257,10 +257,18 @@ impl QualityStats {
     /// Orders two results by (inverted count, minimum, average): `true` when `self` is
     /// strictly better than `other`.
     pub fn better_than(&self, other: &QualityStats) -> bool {
+        self.better_than_with_tie(other, 0.0)
+    }
+
+    /// The one ranking rule of results, the optimizer's included: fewer inverted quads win,
+    /// then a minimum higher by more than `tie`, then (minima within `tie`, a tie) the higher
+    /// average. `tie = 0` is [`better_than`](Self::better_than).
+    pub fn better_than_with_tie(&self, other: &QualityStats, tie: f64) -> bool {
         if self.inverted != other.inverted {
             return self.inverted < other.inverted;
         }
-        if self.min != other.min {
+        let min_differs = if tie == 0.0 { self.min != other.min } else { (self.min - other.min).abs() > tie };
+        if min_differs {
             return self.min > other.min;
         }
         self.avg > other.avg
@@ -423,6 +431,14 @@ mod tests {
         let t = QualityStats::from_values(&[0.1, 0.2]);
         assert!(t.better_than(&s));
         assert!(!s.better_than(&t));
+        // Minima within the tie: the average decides; beyond it, the minimum.
+        let a = QualityStats { min: 0.5, avg: 0.7, max: 1.0, inverted: 0 };
+        let b = QualityStats { min: 0.5005, avg: 0.6, max: 1.0, inverted: 0 };
+        assert!(b.better_than(&a) && !a.better_than(&b));
+        assert!(a.better_than_with_tie(&b, 1e-3) && !b.better_than_with_tie(&a, 1e-3));
+        assert!(b.better_than_with_tie(&a, 1e-4));
+        let inverted = QualityStats { inverted: 1, min: 0.9, avg: 0.95, ..a };
+        assert!(a.better_than_with_tie(&inverted, 1e-3) && a.better_than(&inverted));
     }
 
     #[test]

@@ -12,7 +12,7 @@
 //! the smallest in each quad, those corners add up to 360 degrees, so their minimum is at most
 //! 360/n degrees, reached only with all equal; its scaled Jacobian is sin(2 pi / n).
 
-use quadopt::{Optimizer, Options, Progress, QuadMesh, Topology, topology::VertexKind};
+use quadopt::{Optimizer, Options, Progress, QuadMesh, Topology, VertexKind};
 use std::f64::consts::TAU;
 
 #[path = "common/fans.rs"]

@@ -11,8 +11,8 @@
 
 mod common;
 use common::hard::hard_meshes;
-use quadopt::features::Features;
-use quadopt::topology::Topology;
+use quadopt::Features;
+use quadopt::Topology;
 use quadopt::{BoundaryMode, DVec2, Options, QuadMesh, QualityStats, optimize};
 
 /// Distance from `p` to the closed polyline through `loop_points`.

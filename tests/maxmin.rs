@@ -1,14 +1,14 @@
-//! The max-min stage (quadopt::smooth::maxmin): known optima reached, the global minimum
+//! The max-min stage (src/smooth/maxmin.rs): known optima reached, the global minimum
 //! monotone, fixed vertices untouched, boundary vertices on the original boundary, no valid
 //! quad inverted, the same result on any thread count.
 
 mod common;
 
 use common::Rng;
-use quadopt::features::Features;
+use quadopt::Features;
 use quadopt::quality::{corners, scaled_jacobian};
-use quadopt::smooth::boundary::BoundaryGeometry;
-use quadopt::smooth::maxmin::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
+use quadopt::testing::BoundaryGeometry;
+use quadopt::testing::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
 use quadopt::{BoundaryMode, DVec2, QuadMesh, Topology};
 
 /// An nx x ny grid of unit squares, vertex (i, j) at index j (nx + 1) + i.

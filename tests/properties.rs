@@ -24,10 +24,10 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
-use quadopt::features::Features;
+use quadopt::Features;
 use quadopt::io::{self, Encoding, Format, MeshData, MshVersion};
-use quadopt::topology::{Topology, VertexKind};
 use quadopt::{BoundaryMode, DVec2, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize};
+use quadopt::{Topology, VertexKind};
 use std::collections::HashMap;
 
 // ---------------------------------------------------------------------------------------

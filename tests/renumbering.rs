@@ -4,8 +4,8 @@
 
 mod common;
 use common::Rng;
+use quadopt::TangleReason;
 use quadopt::quality::{corners, scaled_jacobian};
-use quadopt::smooth::TangleReason;
 use quadopt::synthetic::Synthetic;
 use quadopt::{DVec2, Optimizer, Options, QuadMesh};
 

@@ -24,9 +24,9 @@
 
 mod common;
 use common::samples::{jittered, load, sample_files};
-use quadopt::features::Features;
+use quadopt::Features;
 
-use quadopt::topology::Topology;
+use quadopt::Topology;
 use quadopt::{BoundaryMode, DVec2, Method, Optimizer, Options, QuadMesh, QualityStats};
 use std::path::Path;
 
@@ -280,7 +280,7 @@ fn samples_are_as_poor_as_the_papers_inputs() {
         let topo = Topology::new(mesh);
         assert!(topo.loop_count() >= 1, "{name}");
         for v in 0..topo.vertex_count() {
-            assert_ne!(topo.kind(v), quadopt::topology::VertexKind::NonManifold, "{name}: vertex {v}");
+            assert_ne!(topo.kind(v), quadopt::VertexKind::NonManifold, "{name}: vertex {v}");
         }
     }
     // The `fixed` point-data path is exercised: some samples pin their outer boundary.

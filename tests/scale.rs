@@ -23,7 +23,7 @@ mod common;
 
 use common::Rng;
 use quadopt::ffi::{QuadoptQuality, QuadoptStatus, quadopt_quality};
-use quadopt::normalization::scale_by_power_of_two;
+use quadopt::testing::scale_by_power_of_two;
 use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report, Topology};
 
 /// Factors that are not powers of two, over the whole range asked for.

@@ -43,7 +43,7 @@ impl RunContext<'_> {
                     .boundary_loop(l)
                     .iter()
                     .filter(|&&v| self.features.is_movable(v as usize))
-                    .map(|&v| self.auto_candidate(&pass.points, &pass.params, v as usize).1)
+                    .map(|&v| self.auto_candidate(&pass.points, &pass.params, v as usize).mode)
                     .fold(0i64, |n, m| n + if m == BoundaryMode::Snap { 1 } else { -1 });
                 if snaps > 0 { BoundaryMode::Snap } else { BoundaryMode::Slide }
             })

@@ -272,9 +272,25 @@ fn bracketed_root(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     0.5 * (x0 + x1)
 }
 
+/// A boundary vertex's candidate move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryMove {
+    /// Where the vertex goes (on the original boundary polyline).
+    pub position: DVec2,
+    /// Its arclength parameter there, along its loop.
+    pub param: f64,
+    /// Its torsion energy (1/2 theta^2 of its one interior angle) at the old positions.
+    pub energy: f64,
+}
+
+impl BoundaryMove {
+    fn new(position: DVec2, param: f64, energy: f64) -> BoundaryMove {
+        BoundaryMove { position, param, energy }
+    }
+}
+
 /// One boundary update of movable boundary vertex `v` by approach `mode` (slide or snap; fixed
-/// and auto leave it in place): new position, new slot parameter and
-/// the vertex's torsion energy (1/2 theta^2 of its one interior angle) at the old positions.
+/// and auto leave it in place).
 #[allow(clippy::too_many_arguments)]
 pub fn update(
     points: &[DVec2],
@@ -285,16 +301,16 @@ pub fn update(
     mode: BoundaryMode,
     lambda: f64,
     max_deviation: Option<f64>,
-) -> (DVec2, f64, f64) {
+) -> BoundaryMove {
     let p = points[v];
-    let Some(slot) = geometry.slot(v) else { return (p, 0.0, 0.0) };
+    let Some(slot) = geometry.slot(v) else { return BoundaryMove::new(p, 0.0, 0.0) };
     let s = params[slot];
     let ring = topo.ring(v);
     if ring.len() != 3 {
-        return (p, s, 0.0);
+        return BoundaryMove::new(p, s, 0.0);
     }
     let (n0, n1, n2) = (points[ring[0] as usize], points[ring[1] as usize], points[ring[2] as usize]);
-    let Some((theta, rotated)) = bisect(p, n1, n0, n2) else { return (p, s, 0.0) };
+    let Some((theta, rotated)) = bisect(p, n1, n0, n2) else { return BoundaryMove::new(p, s, 0.0) };
     let energy = 0.5 * theta * theta;
 
     // Unwrapped arclength range between the boundary neighbours (previous slot .. next slot).
@@ -305,7 +321,7 @@ pub fn update(
     if len <= 0.0 || !len.is_finite() {
         // A loop of zero length (one vertex, or all vertices at one point: the unwrapping
         // below would never end) or of overflowing length (its arclengths are meaningless).
-        return (p, s, energy);
+        return BoundaryMove::new(p, s, energy);
     }
     let k = slot - a;
     let prev_slot = a + (k + count - 1) % count;
@@ -323,11 +339,11 @@ pub fn update(
     let (lo, hi) = (s_prev + margin, s_next - margin);
     if lo >= hi || lo.is_nan() || hi.is_nan() {
         // NaN on either side would make `clamp` below panic.
-        return (p, s, energy);
+        return BoundaryMove::new(p, s, energy);
     }
 
     let target = match mode {
-        BoundaryMode::Fixed | BoundaryMode::Auto => return (p, s, energy),
+        BoundaryMode::Fixed | BoundaryMode::Auto => return BoundaryMove::new(p, s, energy),
         BoundaryMode::Slide => {
             // f(s_prev) > 0 > f(s_next): at s_prev v sits on n2 (the previous boundary vertex)
             // and must turn counter-clockwise onto the bisector, at s_next it sits on n0 and
@@ -338,7 +354,7 @@ pub fn update(
         BoundaryMode::Snap => geometry.project(l, rotated, lo, hi),
     };
     if target.is_nan() {
-        return (p, s, energy);
+        return BoundaryMove::new(p, s, energy);
     }
     let target = target.clamp(lo, hi);
     let mut s_new = (s_cur + lambda * (target - s_cur)).clamp(lo, hi);
@@ -363,7 +379,7 @@ pub fn update(
         s_new = if accepted { s_cur + step } else { s_cur };
     }
     let s_new = s_new.rem_euclid(len);
-    (geometry.eval(l, s_new), s_new, energy)
+    BoundaryMove::new(geometry.eval(l, s_new), s_new, energy)
 }
 
 #[cfg(test)]

@@ -98,7 +98,7 @@ impl Optimizer {
     /// keeping the best positions reached so far.
     ///
     /// The run works on coordinates normalized to the mesh's bounding box
-    /// ([`crate::normalization`]), so its result does not depend on the mesh's units: scaled by
+    /// (`src/normalization.rs`), so its result does not depend on the mesh's units: scaled by
     /// a power of two it is the same bit for bit. Vertices that do not move keep their
     /// coordinates exactly; the report's statistics are those of the coordinates given and
     /// returned.

@@ -171,43 +171,58 @@ impl FromStr for StopRule {
 /// degrees) and add what makes the result never worse than the input: guarded moves,
 /// untangling, the automatic boundary mode and a size-independent stopping rule. Set
 /// [`Options::paper`] reproduces the plain method of the paper.
+///
+/// Build options from the defaults, with the chainable setters (one per field, named as the
+/// field) or with struct update syntax; either keeps compiling when a later version adds a
+/// field:
+///
+/// ```
+/// use quadopt::{BoundaryMode, Options};
+/// let a = Options::default().boundary(BoundaryMode::Fixed).max_iterations(50);
+/// let b = Options { boundary: BoundaryMode::Fixed, max_iterations: 50, ..Options::default() };
+/// assert_eq!(a, b);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
-    /// Interior smoothing method.
+    /// Interior smoothing method. Default: [`Method::EmbeddedPolygon`].
     pub method: Method,
-    /// Boundary treatment.
+    /// Boundary treatment. Default: [`BoundaryMode::Auto`].
     pub boundary: BoundaryMode,
-    /// Step factor of Eq. 8, in (0, 1].
+    /// Step factor of Eq. 8, in (0, 1]. Default: 1.
     pub lambda: f64,
-    /// When to stop: the quality rule by default.
+    /// When to stop. Default: [`StopRule::Quality`].
     pub stop: StopRule,
     /// Threshold of [`StopRule::Energy`] on the energy change between sweeps (>= 0): per
     /// movable vertex by default, absolute (the paper's tau) when `tau_absolute` is set.
+    /// Default: 1e-7.
     pub tau: f64,
     /// Compare `tau` with the absolute change of the collective energy, as the paper does;
-    /// this depends on mesh size (large meshes may never reach it).
+    /// this depends on mesh size (large meshes may never reach it). Default: false.
     pub tau_absolute: bool,
-    /// Iteration cap (>= 1).
+    /// Iteration cap (>= 1). Default: 1000.
     pub max_iterations: usize,
     /// A boundary vertex whose turning angle differs from 180 degrees by more than this is a
-    /// corner and never moves, in degrees within [0, 180].
+    /// corner and never moves, in degrees within [0, 180]. Default: 45.
     pub feature_angle_deg: f64,
     /// Guarded moves: a vertex with a valid star may not lower its star's minimum scaled
     /// Jacobian below min(current, floor), where the floor is the larger of `guard_floor` and
     /// the input's minimum scaled Jacobian (so a valid mesh's worst quad never gets worse).
+    /// Default: true.
     pub guard: bool,
-    /// The guard's floor, in (0, 1].
+    /// The guard's floor, in (0, 1]. Default: 0.05.
     pub guard_floor: f64,
-    /// Untangle inverted quads before smoothing.
+    /// Untangle inverted quads before smoothing. Default: true.
     pub untangle: bool,
     /// Return the best iterate seen (never worse than the input) instead of the last one.
+    /// Default: true.
     pub keep_best: bool,
     /// Largest allowed distance between a new boundary edge and the stretch of the original
-    /// boundary it replaces, relative to that edge's length (`None`: unlimited).
+    /// boundary it replaces, relative to that edge's length (`None`: unlimited). Default:
+    /// `None`.
     pub max_boundary_deviation: Option<f64>,
-    /// After the sweeps, the max-min stage ([`super::maxmin`]): the vertices of the worst
+    /// After the sweeps, the max-min stage (`src/smooth/maxmin.rs`): the vertices of the worst
     /// quads move to maximize their star's minimum scaled Jacobian, so the global minimum
-    /// rises and never falls.
+    /// rises and never falls. Default: true.
     pub max_min: bool,
 }
 
@@ -232,7 +247,38 @@ impl Default for Options {
     }
 }
 
+/// A chainable setter per field: `Options::default().tau(1e-6).guard(false)`.
+macro_rules! setters {
+    ($($field:ident: $ty:ty),* $(,)?) => {
+        $(
+            #[doc = concat!("Sets [`", stringify!($field), "`](Options#structfield.", stringify!($field), ").")]
+            #[must_use]
+            pub fn $field(mut self, value: $ty) -> Options {
+                self.$field = value;
+                self
+            }
+        )*
+    };
+}
+
 impl Options {
+    setters! {
+        method: Method,
+        boundary: BoundaryMode,
+        lambda: f64,
+        stop: StopRule,
+        tau: f64,
+        tau_absolute: bool,
+        max_iterations: usize,
+        feature_angle_deg: f64,
+        guard: bool,
+        guard_floor: f64,
+        untangle: bool,
+        keep_best: bool,
+        max_boundary_deviation: Option<f64>,
+        max_min: bool,
+    }
+
     /// The paper's plain method: no guard, no untangling, no max-min stage, the last iterate,
     /// Approach 2 on the boundary, the energy rule with the absolute threshold tau = 1e-4.
     pub fn paper() -> Options {
@@ -273,5 +319,56 @@ impl Options {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The defaults the field docs state, and one setter per field.
+    #[test]
+    fn defaults_are_the_documented_ones_and_setters_set_one_field() {
+        let d = Options::default();
+        assert_eq!(
+            (d.method, d.boundary, d.stop),
+            (Method::EmbeddedPolygon, BoundaryMode::Auto, StopRule::Quality)
+        );
+        assert_eq!((d.lambda, d.tau, d.feature_angle_deg, d.guard_floor), (1.0, 1e-7, 45.0, 0.05));
+        assert_eq!((d.tau_absolute, d.max_iterations, d.max_boundary_deviation), (false, 1000, None));
+        assert!(d.guard && d.untangle && d.keep_best && d.max_min);
+        d.validate().unwrap();
+        let set = Options::default()
+            .method(Method::Laplacian)
+            .boundary(BoundaryMode::Snap)
+            .lambda(0.5)
+            .stop(StopRule::Energy)
+            .tau(2e-3)
+            .tau_absolute(true)
+            .max_iterations(7)
+            .feature_angle_deg(30.0)
+            .guard(false)
+            .guard_floor(0.2)
+            .untangle(false)
+            .keep_best(false)
+            .max_boundary_deviation(Some(0.1))
+            .max_min(false);
+        let literal = Options {
+            method: Method::Laplacian,
+            boundary: BoundaryMode::Snap,
+            lambda: 0.5,
+            stop: StopRule::Energy,
+            tau: 2e-3,
+            tau_absolute: true,
+            max_iterations: 7,
+            feature_angle_deg: 30.0,
+            guard: false,
+            guard_floor: 0.2,
+            untangle: false,
+            keep_best: false,
+            max_boundary_deviation: Some(0.1),
+            max_min: false,
+        };
+        assert_eq!(set, literal);
     }
 }

@@ -1,5 +1,6 @@
-//! How iterates are ranked: by inverted count, then minimum scaled Jacobian, then average,
-//! never accepting one that is worse than the input.
+//! How iterates are ranked: by [`QualityStats::better_than_with_tie`] (inverted count, then
+//! minimum scaled Jacobian, then average; the one rule), never accepting one that is worse
+//! than the input.
 
 use crate::quality::{QualityStats, corners, scaled_jacobian};
 use glam::DVec2;
@@ -33,13 +34,7 @@ pub fn improves_with_tie(
     if candidate.inverted > input.inverted || candidate.min < input.min {
         return false;
     }
-    if candidate.inverted != best.inverted {
-        return candidate.inverted < best.inverted;
-    }
-    if (candidate.min - best.min).abs() > tie {
-        return candidate.min > best.min;
-    }
-    candidate.avg > best.avg
+    candidate.better_than_with_tie(best, tie)
 }
 
 /// Quads below which statistics are computed on the calling thread.

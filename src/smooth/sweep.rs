@@ -6,7 +6,7 @@
 //! count. Each vertex takes its method's target through the guard of [`guard`] unless that is
 //! turned off. A pass has one boundary mode per loop; [`super::auto`] chooses them.
 
-use super::boundary::{self, BoundaryGeometry};
+use super::boundary::{self, BoundaryGeometry, BoundaryMove};
 use super::maxmin::{self, MaxMinSettings};
 use super::options::{BoundaryMode, Method, Options, StopRule};
 use super::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves, improves_with_tie, stats_of};
@@ -461,13 +461,13 @@ impl RunContext<'_> {
             moved: 0.0,
         };
         let Some(l) = self.geometry.loop_of(v) else { return stay(0.0) };
-        let (target, param, energy, at_target) = if loop_modes[l] == BoundaryMode::Auto {
-            let (c, _, star) = self.auto_candidate(points, params, v);
-            (c.0, c.1, c.2, star)
+        let (step, at_target) = if loop_modes[l] == BoundaryMode::Auto {
+            let auto = self.auto_candidate(points, params, v);
+            (auto.step, auto.star_min)
         } else {
-            let c = self.boundary_candidate(points, params, v, loop_modes[l]);
-            (c.0, c.1, c.2, None)
+            (self.boundary_candidate(points, params, v, loop_modes[l]), None)
         };
+        let BoundaryMove { position: target, param, energy } = step;
         let take = Update { vertex: v as u32, position: target, param, energy, moved: 0.0 };
         if !opts.guard
             || target == p
@@ -484,14 +484,14 @@ impl RunContext<'_> {
         if ok { take } else { stay(energy) }
     }
 
-    /// Boundary vertex `v`'s candidate (position, arclength parameter, energy) in `mode`.
+    /// Boundary vertex `v`'s candidate in `mode`.
     fn boundary_candidate(
         &self,
         points: &[DVec2],
         params: &[f64],
         v: usize,
         mode: BoundaryMode,
-    ) -> (DVec2, f64, f64) {
+    ) -> BoundaryMove {
         let opts = self.options;
         boundary::update(
             points,
@@ -508,34 +508,41 @@ impl RunContext<'_> {
     /// One-pass `Auto` for boundary vertex `v`: slide's and snap's candidates, the better kept
     /// (when both keep the star at or above the guard's floor, by the star's average; else by
     /// its minimum), with the approach taken and the star's minimum there (when it moves).
-    pub fn auto_candidate(
-        &self,
-        points: &[DVec2],
-        params: &[f64],
-        v: usize,
-    ) -> ((DVec2, f64, f64), BoundaryMode, Option<f64>) {
+    pub(crate) fn auto_candidate(&self, points: &[DVec2], params: &[f64], v: usize) -> AutoCandidate {
         let slide = self.boundary_candidate(points, params, v, BoundaryMode::Slide);
         let snap = self.boundary_candidate(points, params, v, BoundaryMode::Snap);
         let p = points[v];
-        if slide.0 == snap.0 || snap.0 == p {
-            return (slide, BoundaryMode::Slide, None);
+        let pick = |step, mode, star_min| AutoCandidate { step, mode, star_min };
+        if slide.position == snap.position || snap.position == p {
+            return pick(slide, BoundaryMode::Slide, None);
         }
-        if slide.0 == p {
-            return (snap, BoundaryMode::Snap, None);
+        if slide.position == p {
+            return pick(snap, BoundaryMode::Snap, None);
         }
-        let q_slide = guard::star_min_avg(points, self.quads, self.topo, v, slide.0);
-        let q_snap = guard::star_min_avg(points, self.quads, self.topo, v, snap.0);
+        let q_slide = guard::star_min_avg(points, self.quads, self.topo, v, slide.position);
+        let q_snap = guard::star_min_avg(points, self.quads, self.topo, v, snap.position);
         let snap_wins = if q_snap.0.min(q_slide.0) >= self.floor {
             q_snap.1 > q_slide.1 + AUTO_TIE
         } else {
             q_snap.0 > q_slide.0 + AUTO_TIE
         };
         if snap_wins {
-            (snap, BoundaryMode::Snap, Some(q_snap.0))
+            pick(snap, BoundaryMode::Snap, Some(q_snap.0))
         } else {
-            (slide, BoundaryMode::Slide, Some(q_slide.0))
+            pick(slide, BoundaryMode::Slide, Some(q_slide.0))
         }
     }
+}
+
+/// One-pass `Auto`'s choice for a boundary vertex.
+pub(crate) struct AutoCandidate {
+    /// The move of the approach taken.
+    pub step: BoundaryMove,
+    /// Slide or snap.
+    pub mode: BoundaryMode,
+    /// The vertex's star's minimum scaled Jacobian at `step`, when it was computed (both
+    /// approaches moved the vertex and were compared).
+    pub star_min: Option<f64>,
 }
 
 /// What a sweep's guard knows since the sweep started: the slack of every quad then

@@ -3,8 +3,8 @@
 
 use super::Rng;
 use quadopt::io::{self, PlanarMesh};
-use quadopt::topology::{Topology, VertexKind};
 use quadopt::{DVec2, QuadMesh};
+use quadopt::{Topology, VertexKind};
 use std::path::{Path, PathBuf};
 
 /// The sample files, sorted by name.

@@ -696,7 +696,7 @@ fn cmd_optimize(
 /// Per-vertex corner flags of `mesh` (the corners `options` keep in place).
 fn corner_flags(mesh: &QuadMesh, options: &Options) -> Vec<bool> {
     let topo = quadopt::Topology::new(mesh);
-    let features = quadopt::features::Features::new(
+    let features = quadopt::Features::new(
         mesh,
         &topo,
         options.feature_angle_deg,

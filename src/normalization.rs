@@ -215,7 +215,7 @@ impl Normalization {
     /// Normalized coordinates of `p`. A point far outside the mesh's bounding box (only a vertex
     /// used by no quad can be) that would overflow maps to the origin.
     #[inline]
-    pub fn to_normalized(&self, p: DVec2) -> DVec2 {
+    pub fn to_normalized(self, p: DVec2) -> DVec2 {
         let q = self.unrounded(p);
         let round = |x: f64| {
             let units = scale_by_power_of_two(x, self.grid);
@@ -228,7 +228,7 @@ impl Normalization {
 
     /// The mesh coordinates of normalized `q` (not finite only far outside the number range).
     #[inline]
-    pub fn to_original(&self, q: DVec2) -> DVec2 {
+    pub fn to_original(self, q: DVec2) -> DVec2 {
         let q = q * self.unit;
         DVec2::new(scale_by_power_of_two(q.x, self.exponent), scale_by_power_of_two(q.y, self.exponent))
             + self.origin

@@ -50,6 +50,8 @@ mod renumbering;
 pub(crate) mod smooth;
 pub mod synthetic;
 #[cfg(test)]
+mod test_meshes;
+#[cfg(test)]
 mod test_rng;
 pub(crate) mod topology;
 

@@ -398,7 +398,7 @@ mod tests {
     #[test]
     fn eval_many_gives_the_points_of_eval() {
         // A 5x3 grid: one loop of 16 boundary vertices (the corners included).
-        let mesh = crate::smooth::tests::grid(5, 3);
+        let mesh = crate::test_meshes::grid(5, 3);
         let topo = Topology::new(&mesh);
         let features = Features::new(&mesh, &topo, 30.0, true);
         let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);

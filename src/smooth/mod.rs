@@ -409,22 +409,7 @@ fn mean_edge_length(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
 mod tests {
     use super::*;
 
-    pub(crate) fn grid(nx: u32, ny: u32) -> QuadMesh {
-        let mut p = Vec::new();
-        for j in 0..=ny {
-            for i in 0..=nx {
-                p.push(DVec2::new(i as f64, j as f64));
-            }
-        }
-        let mut q = Vec::new();
-        for j in 0..ny {
-            for i in 0..nx {
-                let a = j * (nx + 1) + i;
-                q.push([a, a + 1, a + nx + 2, a + nx + 1]);
-            }
-        }
-        QuadMesh::new(p, q, None).unwrap()
-    }
+    use crate::test_meshes::grid;
 
     #[test]
     fn quads_below_the_bar_get_their_interior_vertices_back_and_boundary_ones_stay() {

@@ -339,10 +339,52 @@ fn c_client_compiles_links_and_runs() {
 fn c_client_links_the_staticlib() {
     let staticlib = library_dir().join("libquadopt.a");
     assert!(staticlib.exists(), "no staticlib at {}", staticlib.display());
-    // The system libraries Rust's std needs on linux-gnu (`rustc --print native-static-libs`).
+    // The system libraries Rust's std needs, as CMakeLists.txt gives them to C/C++ consumers.
     let mut link: Vec<std::ffi::OsString> = vec![staticlib.into()];
-    link.extend(["-lgcc_s", "-lutil", "-lrt", "-lpthread", "-lm", "-ldl", "-lc"].map(Into::into));
+    link.extend(cmake_native_static_libs().iter().map(|l| format!("-l{l}").into()));
     check_c_layouts(&build_and_run_c_client("staticlib", &link));
+}
+
+/// The Linux list of native libraries in CMakeLists.txt (`QUADOPT_NATIVE_STATIC_LIBS`, the
+/// last `set` of it: the non-Apple, non-Windows branch).
+fn cmake_native_static_libs() -> Vec<String> {
+    let cmake =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("CMakeLists.txt")).unwrap();
+    let line = cmake
+        .lines()
+        .filter(|l| l.trim_start().starts_with("set(QUADOPT_NATIVE_STATIC_LIBS \""))
+        .last()
+        .expect("CMakeLists.txt sets QUADOPT_NATIVE_STATIC_LIBS");
+    let list = line.split('"').nth(1).unwrap();
+    list.split(';').map(str::to_string).collect()
+}
+
+/// CMakeLists.txt's list covers every library rustc says a staticlib needs on this target
+/// (`rustc --print native-static-libs`; libc is linked by every C compiler anyway).
+#[test]
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn the_cmake_native_library_list_is_what_rustc_prints() {
+    let dir = std::env::temp_dir().join(format!("quadopt-native-libs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("lib.rs"), "pub fn f() {}\n").unwrap();
+    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let out = std::process::Command::new(rustc)
+        .args(["--crate-type", "staticlib", "--print", "native-static-libs", "-o"])
+        .arg(dir.join("libx.a"))
+        .arg(dir.join("lib.rs"))
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let note = String::from_utf8(out.stderr).unwrap();
+    let listed = note
+        .lines()
+        .find_map(|l| l.split("native-static-libs:").nth(1))
+        .unwrap_or_else(|| panic!("no native-static-libs note in {note}"));
+    let cmake = cmake_native_static_libs();
+    for lib in listed.split_whitespace().filter_map(|w| w.strip_prefix("-l")).filter(|&l| l != "c") {
+        assert!(cmake.iter().any(|c| c == lib), "rustc needs -l{lib}; CMakeLists.txt lists {cmake:?}");
+    }
 }
 
 /// Compares the "size" and "layout" lines the C client printed with the Rust definitions.

@@ -352,8 +352,8 @@ fn cmake_native_static_libs() -> Vec<String> {
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("CMakeLists.txt")).unwrap();
     let line = cmake
         .lines()
-        .filter(|l| l.trim_start().starts_with("set(QUADOPT_NATIVE_STATIC_LIBS \""))
-        .last()
+        .rev()
+        .find(|l| l.trim_start().starts_with("set(QUADOPT_NATIVE_STATIC_LIBS \""))
         .expect("CMakeLists.txt sets QUADOPT_NATIVE_STATIC_LIBS");
     let list = line.split('"').nth(1).unwrap();
     list.split(';').map(str::to_string).collect()

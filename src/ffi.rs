@@ -13,7 +13,7 @@
 //!   and the optimizer need at their peak is available before they start (their allocations,
 //!   rayon's among them, are not all fallible), so a mesh too large for the memory gives
 //!   [`QuadoptStatus::OutOfMemory`] instead of aborting the host;
-//! - runs the optimizer on the library's own worker threads (`ffi/pool.rs`), which survive
+//! - runs the optimizer on the library's own worker threads (`src/pool.rs`), which survive
 //!   `fork`;
 //! - records a detailed message (which quad, which index, which option) in a thread-local
 //!   buffer read by [`quadopt_last_error`], and prints nothing (`ffi/quiet.rs`). The only other

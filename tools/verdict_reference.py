@@ -41,8 +41,8 @@ What Verdict computes (VTK 9.7.2, read from the binary and checked on every row 
 4. Otherwise the value is min over the corners of sign(area) * cross(next - p, prev - p) /
    (|next - p| |prev - p|): the signed corner values against the quad's own normal.
 
-How quadopt's signed definition relates (DESIGN.md section 4)
---------------------------------------------------------------
+How quadopt's signed definition relates (docs/method.md, "Scaled Jacobian in the plane")
+----------------------------------------------------------------------------------------
 quadopt measures every corner against +z (the mesh's normal once its orientation is fixed):
 sj(q) = min_i c_i with c_i = cross(next - p, prev - p) / (|next - p| |prev - p|). Hence:
 

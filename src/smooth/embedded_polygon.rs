@@ -1,6 +1,7 @@
 //! The embedded polygon update of an interior vertex (Sections 3.1-3.2).
 //!
-//! Readings of the paper's formulas (measured, see DESIGN.md section 5):
+//! Readings of the paper's formulas (measured, see docs/method.md, "Embedded polygon of an
+//! interior vertex", "Target point of the embedded polygon" and "Weights and step of Eqs. 6-8"):
 //! - Embedded polygon: the edge-neighbours of v in counter-clockwise order (valence n gives n
 //!   corners); adding the quads' diagonal vertices is markedly less robust.
 //! - Eqs. 4-5: at corner P with a = v - P, b = (previous neighbour) - P and c = (next

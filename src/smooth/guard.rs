@@ -2,8 +2,9 @@
 //! that lowers its star's minimum scaled Jacobian below min(current value, floor).
 //!
 //! The paper's method ignores where v may go without folding its star, so on graded and
-//! anisotropic meshes it can lower the minimum quality or create inversions (DESIGN.md
-//! section 5). Vertices in a tangled star are not guarded, so untangling is never blocked.
+//! anisotropic meshes it can lower the minimum quality or create inversions (docs/method.md,
+//! "Guarded moves and the best iterate"). Vertices in a tangled star are not guarded, so
+//! untangling is never blocked.
 
 use crate::quality::{QualityStats, corners, scaled_jacobian, scaled_jacobian_below};
 use crate::topology::Topology;

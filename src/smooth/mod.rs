@@ -6,12 +6,13 @@
 //! 2. untangles inverted quads first ([`untangle`]), when the input has any;
 //! 3. sweeps colour class by colour class ([`sweep`]), each vertex taking its method's target
 //!    through the guard of [`guard`]; boundary vertices follow the embedded polygon's
-//!    boundary rule (Section 3.3) in the chosen [`BoundaryMode`] (`Auto` runs both approaches
-//!    and keeps the better, per boundary loop on small meshes);
-//! 4. stops by the [`StopRule`]: by default when the energy of Eq. 1 changes by less than
-//!    `tau` per movable vertex; [`StopRule::Quality`] stops when the quality the user gets
-//!    (inverted count, minimum, average) stops improving;
-//! 5. returns the best iterate seen (the input included), ranked by [`ranking`]: inverted
+//!    boundary rule (Section 3.3) in the chosen [`BoundaryMode`] (`Auto` takes, per vertex and
+//!    in one pass, the better of slide's and snap's candidates: [`auto`]);
+//! 4. stops by the [`StopRule`]: by default [`StopRule::Quality`], when the quality the user
+//!    gets (inverted count, minimum, average) stops improving; [`StopRule::Energy`] when the
+//!    energy of Eq. 1 changes by less than `tau` per movable vertex;
+//! 5. runs the max-min stage ([`maxmin`]) on the worst quads, when `max_min` is set;
+//! 6. returns the best iterate seen (the input included), ranked by [`ranking`]: inverted
 //!    count, then minimum scaled Jacobian, then average, among those with no more inverted
 //!    quads, no quad inverted that was valid in the input, and a minimum not below the
 //!    input's.

@@ -150,6 +150,13 @@ fn replace(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
     [&bytes[..at], to.as_bytes(), &bytes[at + from.len()..]].concat()
 }
 
+/// Where the text of the `Points` DataArray's data starts.
+fn points_data_at(text: &str) -> usize {
+    let start = text.find(r#"Name="Points""#).unwrap();
+    let data_at = start + text[start..].find('>').unwrap() + 1;
+    data_at + text[data_at..].find(|c: char| !c.is_whitespace()).unwrap()
+}
+
 #[test]
 fn malformed_files_give_one_line_errors() {
     // Truncated binary data, in each encoding: an error at every cut, never a panic.
@@ -176,9 +183,7 @@ fn malformed_files_give_one_line_errors() {
     // Bad base64.
     let b64 = vtk_file("binary.vtu");
     let text = String::from_utf8(b64.clone()).unwrap();
-    let start = text.find(r#"Name="Points""#).unwrap();
-    let data_at = start + text[start..].find('>').unwrap() + 1;
-    let data_at = data_at + text[data_at..].find(|c: char| !c.is_whitespace()).unwrap();
+    let data_at = points_data_at(&text);
     let mut broken = b64.clone();
     broken[data_at + 12] = b'*';
     let m = err(&broken);
@@ -188,9 +193,7 @@ fn malformed_files_give_one_line_errors() {
     // bytes, not 24): found by the read_vtu fuzz target, once a panic.
     let zb = vtk_file("binary_zlib.vtu");
     let text = String::from_utf8(zb.clone()).unwrap();
-    let start = text.find(r#"Name="Points""#).unwrap();
-    let data_at = start + text[start..].find('>').unwrap() + 1;
-    let data_at = data_at + text[data_at..].find(|c: char| !c.is_whitespace()).unwrap();
+    let data_at = points_data_at(&text);
     let mut padded = zb.clone();
     padded[data_at..data_at + 32].copy_from_slice(b"gAAAAAAAAAYAAAAAAAAACwAAAAAAAAA=");
     let m = err(&padded);

@@ -26,8 +26,8 @@
 //!
 //! # Layout
 //!
-//! - `boundary.rs`: the panic boundary and the checked reads and writes of the caller's arrays
-//!   (every `unsafe` access to caller memory other than the growable structs' prefixes);
+//! - `boundary.rs`: the panic boundary, the checks of the caller's pointers and counts, the
+//!   checked reads of the caller's arrays into owned memory and the write of the coordinates;
 //! - `status.rs`: [`QuadoptStatus`], the internal error on its way to the caller, the
 //!   thread-local last-error message, [`quadopt_status_string`] and [`quadopt_last_error`];
 //! - `options.rs`: [`QuadoptOptions`] and its enums, the progress callback type, reading the
@@ -46,14 +46,16 @@
 //!
 //! # Why hidden, and not a crate of its own
 //!
-//! This module is `pub` (the symbols must be exported from the cdylib and staticlib, and the
-//! integration tests and the fuzz target call the functions directly) but `#[doc(hidden)]`:
+//! This module is `pub` (the integration tests, `tests/memory.rs`'s estimates and the fuzz
+//! target call it directly; the `#[unsafe(no_mangle)]` symbols are exported from the cdylib
+//! and staticlib either way) but `#[doc(hidden)]`:
 //! Rust callers use the crate's Rust API, C and C++ callers read `include/quadopt.h`, so the
 //! FFI is not part of the documented Rust surface. A separate `quadopt-capi` crate would keep
 //! it out just as well, but would duplicate the library build (a second cdylib/staticlib,
 //! its own features and profile) and the CMake integration (which builds and links this
-//! crate's libraries) for no gain to any user, and it would need the crate's internals
-//! (`pool`, `alloc`, the mesh's fallible constructors) made public to reach them.
+//! crate's libraries) for no gain to any user, and it would need internals made public that
+//! no Rust caller should see: the worker pool the C calls run on (`pool`, with its
+//! quiet-panic marker) and the fallible allocation helper (`alloc`).
 
 // In the header's order (cbindgen writes the functions in the order it meets them); each
 // declaration is its own group, so that rustfmt keeps the order.

@@ -1,5 +1,5 @@
 //! Status and messages: [`QuadoptStatus`], the failure on its way to the caller
-//! ([`FfiError`]), the mapping of the library's errors to statuses, the thread-local last-error
+//! (`FfiError`), the mapping of the library's errors to statuses, the thread-local last-error
 //! message, and the two functions that name a status and read the message.
 
 use crate::error::Error;

@@ -147,8 +147,8 @@ static void test_defaults(void) {
   size_t i;
   int zero = 1;
   memset(&o, 0xAB, sizeof o);
-  quadopt_options_default(&o);
-  quadopt_options_default(NULL); /* a no-op */
+  CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
+  CHECK_STATUS(quadopt_options_init(NULL, sizeof o), QUADOPT_STATUS_NULL_POINTER);
   CHECK(o.struct_size == sizeof(QuadoptOptions));
   CHECK(o.method == QUADOPT_METHOD_EMBEDDED_POLYGON);
   CHECK(o.boundary == QUADOPT_BOUNDARY_AUTO);
@@ -160,7 +160,9 @@ static void test_defaults(void) {
   CHECK(o.max_boundary_deviation < 0.0);
   CHECK(o.tau_absolute == 0 && o.guard == 1 && o.untangle == 1 && o.keep_best == 1);
   CHECK(o.progress == NULL && o.progress_user_data == NULL);
-  v = quadopt_options_defaults();
+  /* The same defaults whatever the struct held before. */
+  memset(&v, 0x00, sizeof v);
+  CHECK_STATUS(quadopt_options_init(&v, sizeof v), QUADOPT_STATUS_OK);
   CHECK(v.struct_size == o.struct_size && v.method == o.method && v.boundary == o.boundary &&
         v.max_iterations == o.max_iterations && v.lambda == o.lambda && v.tau == o.tau &&
         v.feature_angle_deg == o.feature_angle_deg && v.guard_floor == o.guard_floor &&
@@ -244,7 +246,7 @@ static void test_optimize(void) {
   int i;
   grid_coords(xy, 1.6, 1.5);
   memcpy(before, xy, sizeof xy);
-  quadopt_options_default(&o);
+  CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
   o.tau = 1e-14;
   r = quadopt_report_init();
   CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
@@ -332,7 +334,7 @@ static void test_growable_structs(void) {
   size_t i;
   int untouched = 1;
   memset(&big_o, 0x5A, sizeof big_o);
-  quadopt_options_default(&big_o.o);
+  CHECK_STATUS(quadopt_options_init(&big_o.o, sizeof big_o.o), QUADOPT_STATUS_OK);
   big_o.o.struct_size = (uint32_t)sizeof big_o;
   memset(&big_r, 0xC3, sizeof big_r);
   big_r.r.struct_size = (uint32_t)sizeof big_r;
@@ -413,7 +415,7 @@ static void test_errors(void) {
   /* Invalid arguments: dimension, struct sizes, buffer length, overflowing counts. */
   EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 1, GRID_N, grid_quads, GRID_Q, NULL, NULL, "dim");
   EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 4, 4, grid_quads, 1, NULL, NULL, "dim");
-  quadopt_options_default(&o);
+  CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
   o.struct_size = 0;
   EXPECT_FAILURE(QUADOPT_STATUS_INVALID_ARGUMENT, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "struct_size");
   o.struct_size = (uint32_t)offsetof(QuadoptOptions, max_min) - 8; /* shorter than the first version */
@@ -435,7 +437,7 @@ static void test_errors(void) {
   /* Invalid options, each named in the message. */
 #define BAD_OPTION(field, value)                                                                          \
   do {                                                                                                    \
-    quadopt_options_default(&o);                                                                          \
+    quadopt_options_init(&o, sizeof o);                                                                   \
     o.field = value;                                                                                      \
     EXPECT_FAILURE(QUADOPT_STATUS_INVALID_OPTION, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, #field); \
   } while (0)
@@ -512,7 +514,7 @@ static void test_errors(void) {
     CHECK(more[8] == 1.6 && more[9] == 1.5);
     more[9] = NAN;
     CHECK_STATUS(quadopt_optimizer_optimize(good, more, 2, GRID_N, NULL, NULL), QUADOPT_STATUS_NON_FINITE_COORDINATE);
-    quadopt_options_default(&o);
+    CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
     o.lambda = -1.0;
     CHECK_STATUS(quadopt_optimizer_optimize(good, xy, 2, GRID_N, &o, NULL), QUADOPT_STATUS_INVALID_OPTION);
     CHECK_STATUS(quadopt_optimizer_optimize(good, xy, 5, GRID_N, NULL, NULL), QUADOPT_STATUS_INVALID_ARGUMENT);
@@ -523,7 +525,7 @@ static void test_errors(void) {
   /* Cancellation by the progress callback: nothing written. */
   {
     int count = 0;
-    quadopt_options_default(&o);
+    CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
     o.stop_rule = QUADOPT_STOP_RULE_ENERGY;
     o.tau = 0.0; /* the energy rule never stops: runs until cancelled */
     o.progress = cancel_at_third;

@@ -27,7 +27,8 @@ qt::Mesh g_plate;
 qt::Mesh g_grid;
 
 void test_options() {
-  const QuadoptOptions d = quadopt_options_defaults();
+  QuadoptOptions d;
+  CHECK(quadopt_options_init(&d, sizeof d) == QUADOPT_STATUS_OK);
   quadopt::Options o;
   CHECK(o.raw().struct_size == d.struct_size && o.raw().lambda == d.lambda && o.raw().tau == d.tau &&
         o.raw().max_iterations == d.max_iterations && o.raw().method == d.method && o.raw().boundary == d.boundary);

@@ -226,8 +226,16 @@ void check_result(const Case &c, const std::string &what, const std::vector<doub
   (void)n_fixed;
 }
 
+/// The library's default options (quadopt_options_init for this header's struct).
+QuadoptOptions default_options() {
+  QuadoptOptions o;
+  const QuadoptStatus s = quadopt_options_init(&o, sizeof o);
+  CHECK_MSG(s == QUADOPT_STATUS_OK, "quadopt_options_init: " << quadopt_status_string(s));
+  return o;
+}
+
 QuadoptOptions with_boundary(std::uint32_t b) {
-  QuadoptOptions o = quadopt_options_defaults();
+  QuadoptOptions o = default_options();
   o.boundary = b;
   return o;
 }
@@ -258,7 +266,7 @@ void test_c_api(const Case &c) {
   }
   const auto fixed = some_fixed(c);
   QuadoptReport r;
-  const auto out = run_c(c, quadopt_options_defaults(), fixed, r);
+  const auto out = run_c(c, default_options(), fixed, r);
   check_result(c, "C, fixed mask", out, r, fixed, false);
   // The C++ wrapper on dim-2 arrays gives the same as the C call on dim-3 arrays.
   std::vector<double> xy = c.xy;
@@ -269,7 +277,7 @@ void test_c_api(const Case &c) {
 
 void test_openmesh_adapter(const Case &c) {
   QuadoptReport ref_r;
-  const auto ref = run_c(c, quadopt_options_defaults(), {}, ref_r);
+  const auto ref = run_c(c, default_options(), {}, ref_r);
 
   // Double points: bit-identical to the C call.
   OMeshD om = load<OMeshD>(c.path);
@@ -316,7 +324,7 @@ void test_openmesh_adapter(const Case &c) {
   OMeshD locked2 = locked;
   quadopt::openmesh::optimize(locked);
   QuadoptReport rr;
-  const auto want = run_c(c, quadopt_options_defaults(), mask, rr);
+  const auto want = run_c(c, default_options(), mask, rr);
   same = true;
   for (std::size_t i = 0; i < c.n(); ++i) {
     const auto &p = locked.point(OMeshD::VertexHandle(static_cast<int>(i)));
@@ -334,7 +342,7 @@ void test_openmesh_adapter(const Case &c) {
   quadopt::openmesh::MeshOptions mo;
   mo.feature_is_fixed = false;
   quadopt::openmesh::optimize(locked2, quadopt::Options(), mo);
-  const auto want2 = run_c(c, quadopt_options_defaults(), locked_only, rr);
+  const auto want2 = run_c(c, default_options(), locked_only, rr);
   same = true;
   for (std::size_t i = 0; i < c.n(); ++i) {
     const auto &p = locked2.point(OMeshD::VertexHandle(static_cast<int>(i)));
@@ -358,7 +366,7 @@ void test_openmesh_adapter(const Case &c) {
 
 void test_cgal_adapter(const Case &c) {
   QuadoptReport ref_r;
-  const auto ref = run_c(c, quadopt_options_defaults(), {}, ref_r);
+  const auto ref = run_c(c, default_options(), {}, ref_r);
 
   // Surface_mesh<Point_3>, z kept.
   SM3 sm = surface_mesh<SM3>(c.xy, c.quads, [](double x, double y) { return K::Point_3(x, y, 2.5); });
@@ -420,8 +428,8 @@ void test_cgal_adapter(const Case &c) {
   quadopt::cgal::MeshOptions cmo;
   cmo.fixed_property = "v:pinned";
   quadopt::cgal::optimize(pm2, quadopt::Options(), cmo);
-  const auto want_free = run_c(c, quadopt_options_defaults(), {}, rr);
-  const auto want_pinned = run_c(c, quadopt_options_defaults(), mask, rr);
+  const auto want_free = run_c(c, default_options(), {}, rr);
+  const auto want_pinned = run_c(c, default_options(), mask, rr);
   bool same_free = true, same_pinned = true;
   for (std::size_t i = 0; i < c.n(); ++i) {
     const SM3::Vertex_index v(static_cast<SM3::size_type>(i));
@@ -439,18 +447,18 @@ struct CliCase {
 
 void test_cli(const Case &c) {
   std::vector<CliCase> cases;
-  QuadoptOptions o = quadopt_options_defaults();
+  QuadoptOptions o = default_options();
   cases.push_back({"", o});
   cases.push_back({"--boundary slide", with_boundary(QUADOPT_BOUNDARY_SLIDE)});
   cases.push_back({"--boundary snap", with_boundary(QUADOPT_BOUNDARY_SNAP)});
   o = with_boundary(QUADOPT_BOUNDARY_FIXED);
   o.method = QUADOPT_METHOD_LAPLACIAN;
   cases.push_back({"--boundary fixed --method laplace", o});
-  o = quadopt_options_defaults();
+  o = default_options();
   o.method = QUADOPT_METHOD_COTANGENT;
   o.max_iterations = 7;
   cases.push_back({"--method cotan --max-iter 7", o});
-  o = quadopt_options_defaults();
+  o = default_options();
   o.method = QUADOPT_METHOD_ANGLE_BASED;
   o.lambda = 0.5;
   cases.push_back({"--method angle --lambda 0.5", o});
@@ -463,14 +471,14 @@ void test_cli(const Case &c) {
   o.keep_best = 0;
   o.max_min = 0;
   cases.push_back({"--paper --boundary slide", o});
-  o = quadopt_options_defaults();
+  o = default_options();
   o.guard = 0;
   o.stop_rule = QUADOPT_STOP_RULE_ENERGY;  // --tau implies the energy rule
   o.tau = 1e-9;
   o.feature_angle_deg = 30;
   o.max_boundary_deviation = 0.5;
   cases.push_back({"--no-guard --tau 1e-9 --feature-angle 30 --max-boundary-deviation 0.5", o});
-  o = quadopt_options_defaults();
+  o = default_options();
   o.guard_floor = 0.2;
   o.untangle = 0;
   o.stop_rule = QUADOPT_STOP_RULE_ENERGY;

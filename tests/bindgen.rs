@@ -200,12 +200,22 @@ fn last_error() -> String {
     unsafe { CStr::from_ptr(sys::quadopt_last_error()) }.to_string_lossy().into_owned()
 }
 
+/// The default options as a C caller gets them: `quadopt_options_init` for the header's struct.
+fn default_options() -> sys::QuadoptOptions {
+    let mut o = std::mem::MaybeUninit::<sys::QuadoptOptions>::zeroed();
+    // SAFETY: `o` holds size_of::<QuadoptOptions>() writable, aligned bytes.
+    let s = unsafe { sys::quadopt_options_init(o.as_mut_ptr(), size_of::<sys::QuadoptOptions>()) };
+    assert_eq!(s, sys::QUADOPT_STATUS_OK, "{}", last_error());
+    // SAFETY: zeroed (a valid QuadoptOptions: integers, floats, NULL pointers), then filled.
+    unsafe { o.assume_init() }
+}
+
 #[test]
 fn optimize_quality_and_handle_through_the_header() {
     let (mut coords, quads) = patch();
     // SAFETY: every pointer refers to a live buffer of the stated length.
     unsafe {
-        let mut o = sys::quadopt_options_defaults();
+        let mut o = default_options();
         assert_eq!(o.struct_size as usize, size_of::<sys::QuadoptOptions>());
         o.boundary = sys::QUADOPT_BOUNDARY_FIXED;
         o.tau = 1e-12;
@@ -252,7 +262,7 @@ fn errors_and_report_size_through_the_header() {
         assert!(last_error().contains("quad 1 corner 2"), "{}", last_error());
         let s = sys::quadopt_optimize(c.as_mut_ptr(), 7, 9, quads.as_ptr(), 4, null(), null(), null_mut());
         assert_eq!(s, sys::QUADOPT_STATUS_INVALID_ARGUMENT);
-        let mut o = sys::quadopt_options_defaults();
+        let mut o = default_options();
         o.boundary = 4;
         let s = sys::quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), &o, null_mut());
         assert_eq!(s, sys::QUADOPT_STATUS_INVALID_OPTION);

@@ -1,5 +1,5 @@
 //! `include/quadopt.h` must be exactly what cbindgen (pinned in Cargo.toml) generates from
-//! `src/ffi.rs` with `cbindgen.toml`.
+//! `src/ffi/` (from `src/ffi/mod.rs`, following its modules) with `cbindgen.toml`.
 //!
 //! After changing the C API, regenerate the checked-in header with
 //!
@@ -16,13 +16,14 @@ use std::path::Path;
 #[path = "bindgen/generate.rs"]
 mod bindgen_settings;
 
-/// Generates the header text from `src/ffi.rs` alone (the same as
-/// `cbindgen --config cbindgen.toml --output include/quadopt.h src/ffi.rs`), so public items
-/// of other modules never leak into the C API.
+/// Generates the header text from `src/ffi/` alone (the same as
+/// `cbindgen --config cbindgen.toml --output include/quadopt.h src/ffi/mod.rs`, which follows
+/// the `mod` declarations of `src/ffi/mod.rs`), so public items of other modules never leak
+/// into the C API.
 fn generate(root: &Path) -> String {
     let config = cbindgen::Config::from_file(root.join("cbindgen.toml")).expect("cbindgen.toml parses");
     let bindings = cbindgen::Builder::new()
-        .with_src(root.join("src/ffi.rs"))
+        .with_src(root.join("src/ffi/mod.rs"))
         .with_config(config)
         .generate()
         .expect("cbindgen generates the header");
@@ -65,7 +66,7 @@ fn checked_in_header_matches_cbindgen_output() {
     let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         checked_in == generated,
-        "include/quadopt.h is out of date with src/ffi.rs; regenerate it with \
+        "include/quadopt.h is out of date with src/ffi/; regenerate it with \
          `QUADOPT_BLESS=1 cargo test --test header` and review the diff.\n{}",
         diff_hint(&checked_in, &generated)
     );

@@ -2,7 +2,7 @@
 //! (`quadopt::ffi::topology_bytes`, `quadopt::ffi::run_bytes`) is an upper bound of what they
 //! allocate at their peak, measured by a counting allocator over meshes of different shapes,
 //! every method and every boundary mode. If the optimizer's memory grows, this test says by
-//! how much the estimate in src/ffi.rs must grow.
+//! how much the estimate in src/ffi/run.rs must grow.
 
 use quadopt::ffi::{run_bytes, topology_bytes};
 use quadopt::synthetic::Synthetic;

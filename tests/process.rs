@@ -285,7 +285,12 @@ fn every_address_space_limit_gives_the_result_or_out_of_memory() {
     }
     let (coords, quads) = jittered_grid(100);
     let (v, q) = (coords.len() / 2, quads.len() / 4);
-    let mut options = quadopt_options_defaults();
+    let mut options = std::mem::MaybeUninit::<QuadoptOptions>::zeroed();
+    // SAFETY: `options` holds size_of::<QuadoptOptions>() writable, aligned bytes.
+    let s = unsafe { quadopt_options_init(options.as_mut_ptr(), size_of::<QuadoptOptions>()) };
+    assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+    // SAFETY: zeroed (a valid QuadoptOptions), then filled with the defaults.
+    let mut options = unsafe { options.assume_init() };
     options.max_iterations = 5;
     let optimize = |c: &mut [f64]| {
         // SAFETY: live buffers of the stated lengths.

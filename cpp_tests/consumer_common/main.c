@@ -7,10 +7,14 @@
 int main(void) {
   double xy[18] = {0, 0, 1, 0, 2, 0, 0, 1, 1.6, 1.5, 2, 1, 0, 2, 1, 2, 2, 2};
   const uint32_t quads[16] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6, 4, 5, 8, 7};
-  QuadoptOptions options = quadopt_options_defaults();
+  QuadoptOptions options;
   QuadoptReport report = quadopt_report_init();
   QuadoptStatus status;
   int ok;
+  if (quadopt_options_init(&options, sizeof options) != QUADOPT_STATUS_OK) {
+    printf("consumer_c: quadopt_options_init: %s\n", quadopt_last_error());
+    return 1;
+  }
   options.boundary = QUADOPT_BOUNDARY_FIXED;
   options.tau = 1e-12;
   status = quadopt_optimize(xy, 2, 9, quads, 4, NULL, &options, &report);

@@ -1,4 +1,4 @@
-//! The C entry points (`src/ffi.rs`) with arbitrary arrays, counts, dimensions, flags, options
+//! The C entry points (`src/ffi/`) with arbitrary arrays, counts, dimensions, flags, options
 //! and report sizes. Every pointer passed points into a buffer this target owns, at least as
 //! long as the count passed with it says (or is NULL); the library must check everything
 //! else. Checked: no call panics (`QUADOPT_STATUS_PANIC` is a bug), none of these small inputs
@@ -109,6 +109,16 @@ fn assert_not_panic(s: QuadoptStatus) {
     assert_ne!(s, QuadoptStatus::OutOfMemory, "a small input was refused: {:?}", last_error());
 }
 
+/// The default options, as a C caller gets them from `quadopt_options_init`.
+fn default_options() -> QuadoptOptions {
+    let mut o = std::mem::MaybeUninit::<QuadoptOptions>::zeroed();
+    // SAFETY: `o` holds size_of::<QuadoptOptions>() writable, aligned bytes.
+    let s = unsafe { ffi::quadopt_options_init(o.as_mut_ptr(), size_of::<QuadoptOptions>()) };
+    assert_eq!(s, QuadoptStatus::Ok);
+    // SAFETY: zeroed (a valid QuadoptOptions: integers, floats, NULL pointers), then filled.
+    unsafe { o.assume_init() }
+}
+
 fn last_error() -> String {
     let p = ffi::quadopt_last_error();
     assert!(!p.is_null());
@@ -209,7 +219,7 @@ fn run(input: Input) {
         caller: std::thread::current().id(),
         on_another_thread: false,
     };
-    let mut options_buffer = OptionsBuffer { options: ffi::quadopt_options_defaults(), tail: [0; 8] };
+    let mut options_buffer = OptionsBuffer { options: default_options(), tail: [0; 8] };
     let options_ptr: *const QuadoptOptions = match &input.options {
         None => std::ptr::null(),
         Some(c) => {

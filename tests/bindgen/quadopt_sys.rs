@@ -293,16 +293,10 @@ unsafe extern "C" {
     pub fn quadopt_last_error() -> *const ::std::os::raw::c_char;
 }
 unsafe extern "C" {
-    pub fn quadopt_options_default(out: *mut QuadoptOptions);
-}
-unsafe extern "C" {
     pub fn quadopt_options_init(
         out: *mut QuadoptOptions,
         struct_size: usize,
     ) -> QuadoptStatus;
-}
-unsafe extern "C" {
-    pub fn quadopt_options_defaults() -> QuadoptOptions;
 }
 unsafe extern "C" {
     pub fn quadopt_report_init() -> QuadoptReport;

@@ -103,14 +103,15 @@ int main(void) {
     CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OUT_OF_MEMORY), "out of memory") == 0);
 
     /* Defaults. */
-    quadopt_options_default(&options);
-    quadopt_options_default(NULL);
+    CHECK(quadopt_options_init(&options, sizeof options) == QUADOPT_STATUS_OK);
+    CHECK(quadopt_options_init(NULL, sizeof options) == QUADOPT_STATUS_NULL_POINTER);
     CHECK(options.struct_size == sizeof(QuadoptOptions));
     CHECK(options.method == QUADOPT_METHOD_EMBEDDED_POLYGON);
     CHECK(options.boundary == QUADOPT_BOUNDARY_AUTO);
     CHECK(options.max_iterations == 1000 && options.lambda == 1.0 && options.guard == 1);
     CHECK(options.progress == NULL && options.max_boundary_deviation < 0);
-    CHECK(quadopt_options_defaults().struct_size == sizeof(QuadoptOptions));
+    CHECK(quadopt_options_init(&options, 8) == QUADOPT_STATUS_INVALID_ARGUMENT);
+    CHECK(options.struct_size == sizeof(QuadoptOptions)); /* nothing written */
 
     /* Optimize with a fixed boundary: the centre returns to (1, 1), z is untouched. */
     patch(coords);

@@ -1,0 +1,405 @@
+//! The boundary between C and Rust: the panic boundary every entry point runs in, and the
+//! checks of the caller's arrays (NULL only with a zero length, alignment, byte sizes within
+//! `isize::MAX`, `uint32_t` index ranges) before they are read into owned memory or written.
+
+use crate::alloc::try_with_capacity;
+use crate::mesh::QuadMesh;
+use glam::DVec2;
+use std::panic::{self, AssertUnwindSafe};
+
+use super::quiet;
+use super::status::{FfiError, QuadoptStatus, set_last_error};
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_owned()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic payload".to_owned()
+    }
+}
+
+/// Runs the body of entry point `name`: catches panics, records the message of a failure in
+/// the thread-local last error and turns the outcome into a status.
+pub(super) fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptStatus {
+    quiet::install_hook();
+    let inside = quiet::enter(true);
+    let outcome = panic::catch_unwind(AssertUnwindSafe(body));
+    drop(inside);
+    match outcome {
+        Ok(Ok(())) => QuadoptStatus::Ok,
+        Ok(Err(e)) => {
+            set_last_error(format!("{name}: {}", e.message));
+            e.status
+        }
+        Err(payload) => {
+            set_last_error(format!(
+                "{name}: internal error (panic: {}); please report this bug",
+                panic_message(payload.as_ref())
+            ));
+            QuadoptStatus::Panic
+        }
+    }
+}
+
+/// Panic boundary for the functions without a status: a panic returns `fallback`.
+pub(super) fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
+    quiet::install_hook();
+    let _inside = quiet::enter(true);
+    panic::catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
+}
+
+/// Checks the caller's array `ptr[0..len]` without touching it: NULL is accepted only with
+/// `len == 0`, the pointer must be aligned and the byte size must fit in `isize::MAX` (what
+/// `std::slice::from_raw_parts` requires).
+fn check_array<T>(ptr: *const T, len: usize, what: &str) -> Result<(), FfiError> {
+    if len == 0 {
+        return Ok(());
+    }
+    if ptr.is_null() {
+        return Err(FfiError::new(QuadoptStatus::NullPointer, format!("{what} is NULL (length {len})")));
+    }
+    if !ptr.is_aligned() {
+        return Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!("{what} is not aligned to {} bytes", align_of::<T>()),
+        ));
+    }
+    check_bytes(len, size_of::<T>(), what)?;
+    Ok(())
+}
+
+/// A read-only view of the caller's array `ptr[0..len]`, after [`check_array`].
+///
+/// # Safety
+/// If `len > 0`, `ptr` must point to `len` initialized values of `T` that stay valid and are
+/// not written by anyone for the returned lifetime.
+unsafe fn checked_slice<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [T], FfiError> {
+    check_array(ptr, len, what)?;
+    if len == 0 {
+        return Ok(&[]);
+    }
+    // SAFETY: non-null and aligned, the byte size fits in isize (checked by check_array), and
+    // the caller guarantees `len` valid values not written during the borrow.
+    Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
+}
+
+/// Checks that `count` elements of `size` bytes fit in `isize::MAX` bytes.
+pub(super) fn check_bytes(count: usize, size: usize, what: &str) -> Result<usize, FfiError> {
+    match count.checked_mul(size) {
+        Some(bytes) if bytes <= isize::MAX as usize => Ok(bytes),
+        _ => Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!("{what}: {count} elements of {size} bytes overflow the address space"),
+        )),
+    }
+}
+
+/// `a * b` for element counts, naming the quantities on overflow.
+pub(super) fn checked_count(a: usize, b: usize, what: &str) -> Result<usize, FfiError> {
+    a.checked_mul(b).ok_or_else(|| {
+        FfiError::new(QuadoptStatus::InvalidArgument, format!("{what}: {a} * {b} overflows size_t"))
+    })
+}
+
+pub(super) fn require_non_null<T>(ptr: *const T, what: &str) -> Result<(), FfiError> {
+    if ptr.is_null() {
+        return Err(FfiError::new(QuadoptStatus::NullPointer, format!("{what} is NULL")));
+    }
+    if !ptr.is_aligned() {
+        return Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!("{what} is not aligned to {} bytes", align_of::<T>()),
+        ));
+    }
+    Ok(())
+}
+
+fn check_dim(dim: u32) -> Result<usize, FfiError> {
+    match dim {
+        2 | 3 => Ok(dim as usize),
+        _ => Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!("dim is {dim}; coordinates must have 2 or 3 components per vertex"),
+        )),
+    }
+}
+
+/// Vertex and quad indices are `uint32_t`, so larger counts cannot be meshes.
+fn check_u32_count(count: usize, what: &str) -> Result<(), FfiError> {
+    if count > u32::MAX as usize {
+        return Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!("{what} is {count}; at most {} are supported (uint32_t indices)", u32::MAX),
+        ));
+    }
+    Ok(())
+}
+
+/// Reads `vertex_count` points of `dim` doubles (x and y; z is ignored) into owned memory.
+///
+/// # Safety
+/// `coords` must be NULL with `vertex_count == 0`, or point to `vertex_count * dim` doubles.
+pub(super) unsafe fn read_points(
+    coords: *const f64,
+    dim: u32,
+    vertex_count: usize,
+) -> Result<Vec<DVec2>, FfiError> {
+    let dim = check_dim(dim)?;
+    check_u32_count(vertex_count, "vertex_count")?;
+    let len = checked_count(vertex_count, dim, "vertex_count * dim")?;
+    // SAFETY: the caller guarantees `coords` holds `vertex_count * dim` doubles.
+    let flat = unsafe { checked_slice(coords, len, "coords") }?;
+    let mut points = try_with_capacity(vertex_count, "vertex coordinates")?;
+    points.extend(flat.chunks_exact(dim).map(|c| DVec2::new(c[0], c[1])));
+    Ok(points)
+}
+
+/// Reads `quad_count` quads of four `uint32_t` indices into owned memory.
+///
+/// # Safety
+/// `quads` must be NULL with `quad_count == 0`, or point to `4 * quad_count` indices.
+unsafe fn read_quads(quads: *const u32, quad_count: usize) -> Result<Vec<[u32; 4]>, FfiError> {
+    check_u32_count(quad_count, "quad_count")?;
+    let len = checked_count(quad_count, 4, "quad_count * 4")?;
+    // SAFETY: the caller guarantees `quads` holds `4 * quad_count` indices.
+    let flat = unsafe { checked_slice(quads, len, "quads") }?;
+    let mut out = try_with_capacity(quad_count, "quads")?;
+    out.extend(flat.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]));
+    Ok(out)
+}
+
+/// Reads the optional fixed mask (`vertex_count` bytes, nonzero = fixed).
+///
+/// # Safety
+/// `fixed` must be NULL or point to `vertex_count` bytes.
+unsafe fn read_fixed(fixed: *const u8, vertex_count: usize) -> Result<Option<Vec<bool>>, FfiError> {
+    if fixed.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: non-null, so the caller guarantees `vertex_count` bytes.
+    let flags = unsafe { checked_slice(fixed, vertex_count, "fixed") }?;
+    let mut out = try_with_capacity(vertex_count, "fixed flags")?;
+    out.extend(flags.iter().map(|&f| f != 0));
+    Ok(Some(out))
+}
+
+/// Builds and validates a mesh from the caller's arrays.
+///
+/// # Safety
+/// As [`read_points`], [`read_quads`] and [`read_fixed`].
+pub(super) unsafe fn read_mesh(
+    coords: *const f64,
+    dim: u32,
+    vertex_count: usize,
+    quads: *const u32,
+    quad_count: usize,
+    fixed: *const u8,
+) -> Result<QuadMesh, FfiError> {
+    // Every check of every array first, so no array is read when another one is bad.
+    let dim_n = check_dim(dim)?;
+    check_u32_count(vertex_count, "vertex_count")?;
+    check_u32_count(quad_count, "quad_count")?;
+    check_array(coords, checked_count(vertex_count, dim_n, "vertex_count * dim")?, "coords")?;
+    check_array(quads, checked_count(quad_count, 4, "quad_count * 4")?, "quads")?;
+    if !fixed.is_null() {
+        check_array(fixed, vertex_count, "fixed")?;
+    }
+    // SAFETY: forwarded from this function's contract.
+    let points = unsafe { read_points(coords, dim, vertex_count) }?;
+    // SAFETY: forwarded from this function's contract.
+    let quads = unsafe { read_quads(quads, quad_count) }?;
+    // SAFETY: forwarded from this function's contract.
+    let fixed = unsafe { read_fixed(fixed, vertex_count) }?;
+    Ok(QuadMesh::new(points, quads, fixed)?)
+}
+
+/// Writes x and y of every point into the caller's strided array; z is never written.
+///
+/// # Safety
+/// `coords` must be aligned and point to `points.len() * dim` writable doubles.
+pub(super) unsafe fn write_points(coords: *mut f64, dim: usize, points: &[DVec2]) {
+    for (i, p) in points.iter().enumerate() {
+        // SAFETY: i * dim + 1 < points.len() * dim (dim >= 2), inside the caller's buffer;
+        // raw writes create no reference, so no aliasing rule is broken.
+        unsafe {
+            coords.add(i * dim).write(p.x);
+            coords.add(i * dim + 1).write(p.y);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ffi::options::default_options;
+    use crate::ffi::test_support::*;
+    use crate::ffi::*;
+    use crate::pool;
+    use std::ptr::{null, null_mut};
+
+    #[test]
+    fn argument_errors_are_caught_before_any_access() {
+        use QuadoptStatus as S;
+        let (coords, quads) = patch(2);
+        for dim in [0, 1, 4, u32::MAX] {
+            assert_eq!(optimize_status(&coords[..18], dim, &quads, None, None), S::InvalidArgument);
+            assert!(last_error().contains(&format!("dim is {dim}")), "{}", last_error());
+        }
+        let mut report = sentinel_report();
+        let mut c = coords.clone();
+        // SAFETY: the calls fail before touching the (deliberately wrong) lengths' memory.
+        unsafe {
+            // Counts beyond the uint32_t index range (with 64-bit size_t, the only way
+            // vertex_count * dim or 4 * quad_count could overflow), checked for every array
+            // before any is read.
+            let s = quadopt_optimize(
+                c.as_mut_ptr(),
+                3,
+                usize::MAX / 2,
+                quads.as_ptr(),
+                4,
+                null(),
+                null(),
+                null_mut(),
+            );
+            assert_eq!(s, S::InvalidArgument);
+            assert!(last_error().contains("vertex_count is"), "{}", last_error());
+            let s = quadopt_optimize(
+                c.as_mut_ptr(),
+                2,
+                u32::MAX as usize,
+                quads.as_ptr(),
+                usize::MAX / 2,
+                null(),
+                null(),
+                null_mut(),
+            );
+            assert_eq!(s, S::InvalidArgument);
+            assert!(last_error().contains("quad_count is"), "{}", last_error());
+            assert_eq!(checked_count(usize::MAX / 2, 3, "n").unwrap_err().status, S::InvalidArgument);
+            assert_eq!(check_bytes(usize::MAX / 8, 8, "n").unwrap_err().status, S::InvalidArgument);
+            assert!(check_bytes(isize::MAX as usize / 8, 8, "n").is_ok());
+            // An unreadable fixed mask is not read when the coordinates are bad.
+            let s = quadopt_optimize(
+                c.as_mut_ptr(),
+                5,
+                9,
+                quads.as_ptr(),
+                4,
+                std::ptr::dangling::<u8>(),
+                null(),
+                null_mut(),
+            );
+            assert_eq!(s, S::InvalidArgument);
+            // NULL arrays with nonzero counts.
+            let s = quadopt_optimize(null_mut(), 2, 9, quads.as_ptr(), 4, null(), null(), &mut report);
+            assert_eq!(s, S::NullPointer);
+            assert!(last_error().contains("coords is NULL"), "{}", last_error());
+            let s = quadopt_optimize(c.as_mut_ptr(), 2, 9, null(), 4, null(), null(), &mut report);
+            assert_eq!(s, S::NullPointer);
+            assert!(last_error().contains("quads is NULL"), "{}", last_error());
+            // NULL arrays with zero counts are empty arrays.
+            let s = quadopt_optimize(null_mut(), 2, 0, null(), 0, null(), null(), &mut report);
+            assert_eq!(s, S::NoQuads);
+            // A misaligned coordinate pointer.
+            let s = quadopt_optimize(
+                c.as_mut_ptr().cast::<u8>().add(1).cast(),
+                2,
+                8,
+                quads.as_ptr(),
+                4,
+                null(),
+                null(),
+                &mut report,
+            );
+            assert_eq!(s, S::InvalidArgument);
+            assert!(last_error().contains("aligned"), "{}", last_error());
+            // A report that declares less than this version's struct.
+            let mut small = sentinel_report();
+            small.struct_size = 8;
+            let s = quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), null(), &mut small);
+            assert_eq!(s, S::InvalidArgument);
+            assert!(last_error().contains("report->struct_size is 8"), "{}", last_error());
+            let mut expected_small = sentinel_report();
+            expected_small.struct_size = 8;
+            assert_eq!(bytes_of(&small), bytes_of(&expected_small));
+        }
+        assert_eq!(bits(&c), bits(&coords));
+        assert_eq!(bytes_of(&report), bytes_of(&sentinel_report()));
+        let short = QuadoptOptions { struct_size: 16, ..default_options() };
+        assert_eq!(optimize_status(&coords, 2, &quads, None, Some(&short)), S::InvalidArgument);
+        assert!(last_error().contains("options->struct_size is 16"), "{}", last_error());
+    }
+
+    #[test]
+    fn every_mesh_error_has_its_status_and_writes_nothing() {
+        use QuadoptStatus as S;
+        let (coords, quads) = patch(2);
+        let mut q = quads.clone();
+        q[6] = 9;
+        assert_eq!(optimize_status(&coords, 2, &q, None, None), S::IndexOutOfRange);
+        assert!(last_error().contains("quad 1 corner 2 refers to vertex 9"), "{}", last_error());
+        let mut q = quads.clone();
+        q[2] = 0;
+        assert_eq!(optimize_status(&coords, 2, &q, None, None), S::RepeatedVertex);
+        assert!(last_error().contains("quad 0 uses vertex 0"), "{}", last_error());
+        assert_eq!(optimize_status(&coords, 2, &[], None, None), S::NoQuads);
+        let mut c = coords.clone();
+        c[2 * 5 + 1] = f64::INFINITY;
+        assert_eq!(optimize_status(&c, 2, &quads, None, None), S::NonFiniteCoordinate);
+        assert!(last_error().contains("vertex 5"), "{}", last_error());
+        // Three quads on edge (1, 4): add two vertices and a quad [1, 4, 9, 10].
+        let mut c = coords.clone();
+        c.extend([1.5, 2.5, 0.5, 2.5]);
+        let mut q = quads.clone();
+        q.extend([1, 4, 9, 10]);
+        assert_eq!(optimize_status(&c, 2, &q, None, None), S::NonManifold);
+        assert!(last_error().contains("edge (1, 4)"), "{}", last_error());
+        // A ring of four quads glued with a half twist.
+        let mut c = Vec::new();
+        for i in 0..4 {
+            c.extend([i as f64, 0.0, i as f64, 1.0]);
+        }
+        let moebius = [0, 2, 3, 1, 2, 4, 5, 3, 4, 6, 7, 5, 6, 1, 0, 7];
+        assert_eq!(optimize_status(&c, 2, &moebius, None, None), S::NonOrientable);
+        assert!(last_error().contains("quad"), "{}", last_error());
+    }
+
+    #[test]
+    fn panics_are_caught_at_the_boundary() {
+        let status = boundary("quadopt_test", || panic!("boom {}", 42));
+        assert_eq!(status, QuadoptStatus::Panic);
+        assert_eq!(last_error(), "quadopt_test: internal error (panic: boom 42); please report this bug");
+        assert_eq!(boundary_or(5, || panic!("static")), 5);
+    }
+
+    #[test]
+    fn a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook() {
+        const NAME: &str =
+            "ffi::boundary::tests::a_caught_panic_prints_nothing_and_others_still_reach_the_previous_hook";
+        if !is_child(NAME) {
+            for backtrace in ["0", "1", "full"] {
+                let stderr = run_in_child(NAME, &[("RUST_BACKTRACE", backtrace)]);
+                // Only the panic outside the library reached the default hook.
+                assert!(stderr.contains("panicked") && stderr.contains("outside the library"), "{stderr}");
+                assert!(!stderr.contains("boom"), "RUST_BACKTRACE={backtrace}:\n{stderr}");
+            }
+            return;
+        }
+        // On the calling thread, in both kinds of boundary.
+        assert_eq!(boundary("quadopt_test", || panic!("boom 1")), QuadoptStatus::Panic);
+        assert_eq!(boundary_or(7, || panic!("boom 2")), 7);
+        // On a worker thread, resumed on the calling thread.
+        let status = boundary("quadopt_test", || {
+            let _ = pool::run_with_progress(|_| -> () { panic!("boom 3") }, |_: ()| true);
+            Ok(())
+        });
+        assert_eq!(status, QuadoptStatus::Panic);
+        assert!(last_error().contains("boom 3"), "{}", last_error());
+        // The pool survives a panicking job.
+        assert_eq!(optimize_patch(&fixed_boundary_options()).0, QuadoptStatus::Ok);
+        assert!(panic::catch_unwind(|| panic!("outside the library")).is_err());
+    }
+}

@@ -1,0 +1,232 @@
+//! The report: [`QuadoptQuality`], [`QuadoptReport`] (growable: only the prefix the caller
+//! declared is written), its conversion from the crate's [`Report`], and
+//! [`quadopt_report_init`].
+
+use crate::quality::QualityStats;
+use crate::smooth::{BoundaryMode, Report};
+use std::mem::size_of;
+
+use super::boundary::{boundary_or, require_non_null};
+use super::status::{FfiError, QuadoptStatus};
+
+/// Quality statistics of a set of quads (signed scaled Jacobian, Verdict's definition,
+/// measured against the mesh's consistent orientation).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct QuadoptQuality {
+    /// Smallest scaled Jacobian (the worst quad), in [-1, 1].
+    pub min: f64,
+    /// Mean scaled Jacobian.
+    pub avg: f64,
+    /// Largest scaled Jacobian.
+    pub max: f64,
+    /// Number of quads with a scaled Jacobian <= 0 (inverted or degenerate).
+    pub inverted: usize,
+}
+
+/// What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
+/// library writes only the first `struct_size` bytes (at most its own struct) and, on success,
+/// sets `struct_size` to the number of bytes it filled. A `struct_size` smaller than this
+/// version's struct is `QUADOPT_STATUS_INVALID_ARGUMENT`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct QuadoptReport {
+    /// `sizeof(QuadoptReport)` as the caller compiled it; on success the bytes filled.
+    pub struct_size: u32,
+    /// 1 when the energy criterion was met, 0 when the iteration cap was reached.
+    pub converged: u32,
+    /// Quality of the input.
+    pub input: QuadoptQuality,
+    /// Quality of the output.
+    pub output: QuadoptQuality,
+    /// Sweeps performed in the pass whose result was kept.
+    pub iterations: usize,
+    /// Untangling sweeps performed.
+    pub untangle_sweeps: usize,
+    /// Quads whose vertex order was reversed internally to make the orientation consistent.
+    pub reoriented_quads: usize,
+    /// Boundary vertices detected as corners (never moved).
+    pub corners: usize,
+    /// Vertices the optimizer was allowed to move.
+    pub movable: usize,
+    /// Quads still inverted in the output.
+    pub tangled_quads: usize,
+    /// Collective energy of the input.
+    pub initial_energy: f64,
+    /// Collective energy of the output.
+    pub final_energy: f64,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+    /// Largest distance of the new boundary polyline from the original one.
+    pub max_boundary_deviation: f64,
+    /// Symmetric Hausdorff distance between the new and the original boundary polylines.
+    pub hausdorff: f64,
+    /// `max_boundary_deviation` divided by the mesh's mean edge length.
+    pub max_boundary_deviation_relative: f64,
+    /// `hausdorff` divided by the mesh's mean edge length.
+    pub hausdorff_relative: f64,
+    /// Boundary loops that were optimized in slide mode.
+    pub loops_slide: usize,
+    /// Boundary loops that were optimized in snap mode.
+    pub loops_snap: usize,
+    /// Boundary loops whose vertices were kept fixed.
+    pub loops_fixed: usize,
+    /// 1 when the max-min stage ran and its result was kept, else 0 (then `sweeps` equals
+    /// `output`). Added in 0.2: written only when the caller's `struct_size` covers it.
+    pub max_min: u32,
+    /// Reserved; written as 0.
+    pub reserved1: u32,
+    /// Quality after the sweeps, before the max-min stage: `output` minus `sweeps` is the
+    /// stage's gain.
+    pub sweeps: QuadoptQuality,
+}
+
+/// Size of the first published `QuadoptReport` (the same growth rule): it ended where
+/// `max_min` begins.
+pub(super) const REPORT_V1_SIZE: usize = std::mem::offset_of!(QuadoptReport, max_min);
+
+/// Reads the caller's declared report size, if a report was asked for.
+///
+/// # Safety
+/// `report` must be NULL or point to a readable, aligned `struct_size` field.
+pub(super) unsafe fn report_size(report: *const QuadoptReport) -> Result<Option<usize>, FfiError> {
+    if report.is_null() {
+        return Ok(None);
+    }
+    require_non_null(report, "report")?;
+    // SAFETY: non-null and aligned; every version of the struct starts with `struct_size`.
+    let declared = unsafe { report.cast::<u32>().read() } as usize;
+    let ours = size_of::<QuadoptReport>();
+    if declared < REPORT_V1_SIZE {
+        return Err(FfiError::new(
+            QuadoptStatus::InvalidArgument,
+            format!(
+                "report->struct_size is {declared}, smaller than the first QuadoptReport ({REPORT_V1_SIZE} bytes)"
+            ),
+        ));
+    }
+    Ok(Some(declared.min(ours)))
+}
+
+/// Writes the first `bytes` bytes of `value` to `report`, with `struct_size = bytes`.
+///
+/// # Safety
+/// `report` must be aligned and point to at least `bytes <= sizeof(QuadoptReport)` writable
+/// bytes (checked by [`report_size`] from the caller's declaration).
+pub(super) unsafe fn write_report(report: *mut QuadoptReport, mut value: QuadoptReport, bytes: usize) {
+    value.struct_size = bytes as u32;
+    // SAFETY: `bytes` <= size_of::<QuadoptReport>() so the source read stays inside `value`;
+    // the destination holds `bytes` writable bytes by this function's contract; `value` is a
+    // local, so the two cannot overlap.
+    unsafe { std::ptr::copy_nonoverlapping((&raw const value).cast::<u8>(), report.cast::<u8>(), bytes) };
+}
+
+pub(super) fn quality_of(s: &QualityStats) -> QuadoptQuality {
+    QuadoptQuality { min: s.min, avg: s.avg, max: s.max, inverted: s.inverted }
+}
+
+pub(super) fn report_of(r: &Report) -> QuadoptReport {
+    let count = |mode| r.loop_modes.iter().filter(|&&m| m == mode).count();
+    QuadoptReport {
+        struct_size: size_of::<QuadoptReport>() as u32,
+        converged: u32::from(r.converged),
+        input: quality_of(&r.input),
+        output: quality_of(&r.output),
+        iterations: r.iterations,
+        untangle_sweeps: r.untangle_sweeps,
+        reoriented_quads: r.reoriented_quads,
+        corners: r.corners,
+        movable: r.movable,
+        tangled_quads: r.tangled.len(),
+        initial_energy: r.initial_energy,
+        final_energy: r.final_energy,
+        seconds: r.seconds,
+        max_boundary_deviation: r.fidelity.max_deviation,
+        hausdorff: r.fidelity.hausdorff,
+        max_boundary_deviation_relative: r.fidelity.max_deviation_relative,
+        hausdorff_relative: r.fidelity.hausdorff_relative,
+        loops_slide: count(BoundaryMode::Slide),
+        loops_snap: count(BoundaryMode::Snap),
+        loops_fixed: count(BoundaryMode::Fixed),
+        max_min: u32::from(r.max_min.is_some()),
+        reserved1: 0,
+        sweeps: quality_of(&r.max_min.map_or(r.output, |g| g.before)),
+    }
+}
+
+/// A zeroed report with `struct_size = sizeof(QuadoptReport)`, ready to pass to an optimize
+/// function. By value, so only safe with this version of the header; across versions zero
+/// your own `QuadoptReport` and set its `struct_size = sizeof(QuadoptReport)`.
+#[unsafe(no_mangle)]
+pub extern "C" fn quadopt_report_init() -> QuadoptReport {
+    let init =
+        || QuadoptReport { struct_size: size_of::<QuadoptReport>() as u32, ..QuadoptReport::default() };
+    boundary_or(init(), init)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ffi::test_support::*;
+    use crate::ffi::*;
+    use std::ptr::null;
+
+    #[test]
+    fn larger_structs_from_newer_callers_are_read_and_written_by_prefix() {
+        /// A caller compiled against a future header: the v1 struct plus new fields.
+        #[repr(C)]
+        #[derive(Clone, Copy)]
+        struct Newer<T: Copy> {
+            v1: T,
+            extra: [u64; 4],
+        }
+        let (coords, quads) = patch(2);
+        let mut options = Newer { v1: fixed_boundary_options(), extra: [u64::MAX; 4] };
+        options.v1.struct_size = size_of::<Newer<QuadoptOptions>>() as u32;
+        let mut report = Newer { v1: sentinel_report(), extra: [0x1234_5678; 4] };
+        report.v1.struct_size = size_of::<Newer<QuadoptReport>>() as u32;
+        let mut c = coords.clone();
+        // SAFETY: both structs hold at least the bytes they declare.
+        let status = unsafe {
+            quadopt_optimize(
+                c.as_mut_ptr(),
+                2,
+                9,
+                quads.as_ptr(),
+                4,
+                null(),
+                (&raw const options).cast(),
+                (&raw mut report).cast(),
+            )
+        };
+        assert_eq!(status, QuadoptStatus::Ok, "{}", last_error());
+        assert_eq!(report.extra, [0x1234_5678; 4], "bytes beyond this version's report were written");
+        assert_eq!(report.v1.struct_size as usize, size_of::<QuadoptReport>(), "bytes filled");
+        assert_eq!(report.v1.loops_fixed, 1);
+        assert!((c[8] - 1.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn report_init_is_zeroed_with_struct_size() {
+        let r = quadopt_report_init();
+        assert_eq!(r.struct_size as usize, size_of::<QuadoptReport>());
+        assert_eq!(bytes_of(&r)[4..], vec![0; size_of::<QuadoptReport>() - 4][..]);
+    }
+
+    #[test]
+    fn struct_layouts_have_no_padding_on_64_bit() {
+        // The spec's field order packs without holes on LP64 (checked so that the byte copies
+        // of the prefix protocol never copy padding, and as a guard against reordering).
+        if size_of::<usize>() == 8 {
+            assert_eq!(size_of::<QuadoptOptions>(), 88);
+            assert_eq!(size_of::<QuadoptReport>(), 240);
+            assert_eq!(size_of::<QuadoptQuality>(), 32);
+            assert_eq!(size_of::<QuadoptProgress>(), 48);
+            assert_eq!(std::mem::offset_of!(QuadoptOptions, progress), 64);
+            assert_eq!(std::mem::offset_of!(QuadoptReport, loops_fixed), 192);
+            assert_eq!(std::mem::offset_of!(QuadoptOptions, max_min), 80);
+            assert_eq!(std::mem::offset_of!(QuadoptReport, sweeps), 208);
+        }
+        assert_eq!(size_of::<QuadoptStatus>(), size_of::<std::ffi::c_int>());
+    }
+}

@@ -42,9 +42,7 @@ pub fn write_picture(path: &Path, format: PictureFormat, picture: &picture::Pict
     if is_stdout(path) {
         use std::io::Write as _;
         let mut out = std::io::stdout().lock();
-        out.write_all(&bytes)
-            .and_then(|()| out.flush())
-            .map_err(stdout_write_error)?;
+        out.write_all(&bytes).and_then(|()| out.flush()).map_err(stdout_write_error)?;
     } else {
         io::write_file(path, &bytes)?;
     }

@@ -1,0 +1,272 @@
+//! The command line: clap's definitions of the subcommands and their options, the value
+//! parsers, and the translation of the optimizing options into [`Options`].
+
+use crate::fail::Fail;
+use crate::openmesh_io;
+use clap::{Args, Parser, Subcommand};
+use quadopt::io::{self, Format, MeshData};
+use quadopt::synthetic::Synthetic;
+use quadopt::{BoundaryMode, Method, Options, StopRule};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "quadopt",
+    version = openmesh_io::VERSION,
+    about = "Quality optimizer for 2D quad meshes (embedded polygon method)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Number of threads (default: one per core); results are identical on any number.
+    #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
+    pub threads: Option<usize>,
+    /// Reader for .obj and .off: auto (quadopt's) or openmesh (.ply and .om always use OpenMesh).
+    #[arg(long, global = true, value_enum, default_value_t)]
+    pub reader: openmesh_io::Reader,
+}
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("'{s}' is not a number of threads (a whole number >= 1)")),
+    }
+}
+
+/// A mesh format named on the command line (`--format`).
+fn parse_format(s: &str) -> Result<Format, String> {
+    Format::ALL
+        .into_iter()
+        .find(|f| f.extension().eq_ignore_ascii_case(s))
+        .ok_or_else(|| format!("unknown mesh format '{s}' (expected obj, off, vtk, msh or vtu)"))
+}
+
+/// How the output file stores its data (VTU and MSH); by default as the input did.
+#[derive(Args)]
+pub struct EncodingArgs {
+    /// Output encoding: ascii; binary (MSH binary, VTU inline base64); appended (VTU appended
+    /// raw data, ParaView's default). Other formats are always text.
+    #[arg(long, value_parser = parse_encoding)]
+    encoding: Option<io::Encoding>,
+    /// Compress VTU binary or appended data with zlib (ParaView's default).
+    #[arg(long)]
+    zlib: bool,
+}
+
+impl EncodingArgs {
+    pub fn apply(&self, data: &mut MeshData) {
+        if let Some(e) = self.encoding {
+            data.encoding = e;
+        }
+        data.compressed |= self.zlib;
+    }
+}
+
+fn parse_encoding(s: &str) -> Result<io::Encoding, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "ascii" => Ok(io::Encoding::Ascii),
+        "binary" => Ok(io::Encoding::Binary),
+        "appended" => Ok(io::Encoding::Appended),
+        _ => Err(format!("unknown encoding '{s}' (expected ascii, binary or appended)")),
+    }
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Optimize a mesh and write the result.
+    Optimize {
+        /// Input mesh (.obj, .off, .vtk, .msh).
+        input: PathBuf,
+        /// Output mesh (format from its extension); `-` writes to stdout, in the input's format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
+        #[arg(long, value_parser = parse_format)]
+        format: Option<Format>,
+        #[command(flatten)]
+        encoding: EncodingArgs,
+        #[command(flatten)]
+        opts: OptArgs,
+        /// Also draw the input and the output side by side, with a histogram of both (.png
+        /// or .svg, by extension).
+        #[arg(long, value_name = "OUT.png")]
+        picture: Option<PathBuf>,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the quality of a mesh.
+    Quality {
+        /// Input mesh.
+        input: PathBuf,
+        /// Also write the mesh with its per-quad scaled Jacobian as cell data and its fixed
+        /// and corner flags as point data (VTK, MSH); `-` writes to stdout.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
+        #[arg(long, value_parser = parse_format, requires = "output")]
+        format: Option<Format>,
+        #[command(flatten)]
+        encoding: EncodingArgs,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Compare every method (fixed boundary) and the boundary modes of ep, per mesh.
+    Compare {
+        /// Input meshes.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        #[command(flatten)]
+        tune: TuneArgs,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Draw a mesh as PNG or SVG (by extension), quads coloured by scaled Jacobian.
+    Draw {
+        /// Input mesh.
+        input: PathBuf,
+        /// Output picture (.png or .svg); `-` writes SVG to stdout.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Optimize first (with the options below) and draw the result.
+        #[arg(long, conflicts_with = "before_after")]
+        optimized: bool,
+        /// Optimize (with the options below) and draw input and output side by side on one
+        /// colour scale, each with its min, avg and inverted count, and a histogram of both.
+        #[arg(long)]
+        before_after: bool,
+        #[command(flatten)]
+        opts: OptArgs,
+    },
+    /// Write a synthetic benchmark mesh: a grid with circular holes and jittered interior vertices.
+    Generate {
+        /// Output mesh (format from its extension); `-` writes to stdout (needs --format).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
+        #[arg(long, value_parser = parse_format)]
+        format: Option<Format>,
+        /// Approximate number of quads of a square grid (overrides --nx and --ny).
+        #[arg(long)]
+        quads: Option<usize>,
+        /// Cells along x.
+        #[arg(long, default_value_t = Synthetic::default().nx)]
+        nx: u32,
+        /// Cells along y.
+        #[arg(long, default_value_t = Synthetic::default().ny)]
+        ny: u32,
+        /// Number of circular holes.
+        #[arg(long, default_value_t = Synthetic::default().holes)]
+        holes: u32,
+        /// Hole diameter as a fraction of the hole spacing, in [0, 1).
+        #[arg(long, default_value_t = Synthetic::default().hole_size)]
+        hole_size: f64,
+        /// Largest interior vertex displacement per axis, in grid spacings (>= 0.25 may fold quads).
+        #[arg(long, default_value_t = Synthetic::default().jitter)]
+        jitter: f64,
+        /// Seed of the perturbation.
+        #[arg(long, default_value_t = Synthetic::default().seed)]
+        seed: u64,
+    },
+}
+
+/// Method and boundary mode.
+#[derive(Args, Clone)]
+pub struct OptArgs {
+    /// Interior smoothing method: ep, laplace, cotan or angle.
+    #[arg(long, default_value = "ep")]
+    method: Method,
+    /// Boundary treatment: fixed, slide, snap or auto (the better of slide and snap).
+    #[arg(long, default_value = "auto")]
+    boundary: BoundaryMode,
+    /// Keep every node of the Gmsh physical curve or point NAME fixed (MSH input;
+    /// repeatable).
+    #[arg(long = "fix-physical", value_name = "NAME")]
+    pub fix_physical: Vec<String>,
+    #[command(flatten)]
+    tune: TuneArgs,
+}
+
+/// Numeric options shared by every optimizing command.
+#[derive(Args, Clone)]
+pub struct TuneArgs {
+    /// Stop when the collective energy changes by less than this per movable vertex
+    /// (absolute change with --absolute-tau); implies --stop energy.
+    #[arg(long, allow_negative_numbers = true)]
+    tau: Option<f64>,
+    /// Compare --tau with the absolute energy change, as the paper does (size-dependent);
+    /// implies --stop energy.
+    #[arg(long)]
+    absolute_tau: bool,
+    /// The paper's plain method: no guard, no untangling, no max-min stage, the energy rule
+    /// with absolute tau = 1e-4 (the boundary mode still comes from --boundary).
+    #[arg(long)]
+    paper: bool,
+    /// Turn off guarded moves (which never let a valid star's minimum drop below the floor).
+    #[arg(long)]
+    no_guard: bool,
+    /// Floor of the guarded moves, in (0, 1].
+    #[arg(long, default_value_t = Options::default().guard_floor, allow_negative_numbers = true)]
+    guard_floor: f64,
+    /// Do not untangle inverted quads before smoothing.
+    #[arg(long)]
+    no_untangle: bool,
+    /// Skip the max-min stage (which raises the worst quad after the sweeps).
+    #[arg(long)]
+    no_maxmin: bool,
+    /// Stopping rule: quality (the default: stop once the inverted count, minimum and average
+    /// of the result stop improving) or energy (the energy change per movable vertex below
+    /// --tau; more sweeps).
+    #[arg(long)]
+    stop: Option<StopRule>,
+    /// Largest distance of a new boundary edge from the original boundary, relative to the
+    /// edge's length (default: unlimited).
+    #[arg(long, allow_negative_numbers = true)]
+    max_boundary_deviation: Option<f64>,
+    /// Step factor, in (0, 1].
+    #[arg(long, default_value_t = Options::default().lambda, allow_negative_numbers = true)]
+    lambda: f64,
+    /// Iteration cap.
+    #[arg(long = "max-iter", default_value_t = Options::default().max_iterations)]
+    max_iter: usize,
+    /// Boundary vertices turning by more than this many degrees are corners.
+    #[arg(long = "feature-angle", default_value_t = Options::default().feature_angle_deg, allow_negative_numbers = true)]
+    feature_angle: f64,
+}
+
+impl TuneArgs {
+    pub fn options(&self, method: Method, boundary: BoundaryMode) -> Result<Options, Fail> {
+        let base = if self.paper { Options::paper() } else { Options::default() };
+        let o = Options {
+            method,
+            boundary,
+            lambda: self.lambda,
+            tau: self.tau.unwrap_or(base.tau),
+            tau_absolute: base.tau_absolute || self.absolute_tau,
+            max_iterations: self.max_iter,
+            feature_angle_deg: self.feature_angle,
+            guard: base.guard && !self.no_guard,
+            guard_floor: self.guard_floor,
+            untangle: base.untangle && !self.no_untangle,
+            max_boundary_deviation: self.max_boundary_deviation,
+            max_min: base.max_min && !self.no_maxmin,
+            // A threshold on the energy asks for the energy rule.
+            stop: self.stop.unwrap_or(if self.tau.is_some() || self.absolute_tau {
+                StopRule::Energy
+            } else {
+                base.stop
+            }),
+            ..base
+        };
+        o.validate().map_err(|e| Fail::Usage(e.to_string()))?;
+        Ok(o)
+    }
+}
+
+impl OptArgs {
+    pub fn options(&self) -> Result<Options, Fail> {
+        self.tune.options(self.method, self.boundary)
+    }
+}

@@ -1,0 +1,139 @@
+//! `quadopt optimize IN -o OUT`: optimize a mesh, write it (and optionally a before/after
+//! picture), report the run.
+
+use crate::annotation::{annotate, corner_flags};
+use crate::cli::{EncodingArgs, OptArgs};
+use crate::fail::Fail;
+use crate::json::{report_json, stats_json};
+use crate::mesh_files::{Loaded, MeshWriter, load};
+use crate::picture;
+use crate::picture_files::{PictureFormat, write_picture};
+use crate::progress::run;
+use crate::stdout::{is_stdout, report_on_stderr_if_written_to_stdout};
+use quadopt::io::Format;
+use quadopt::{Optimizer, Report};
+use serde_json::{Value, json};
+use std::path::Path;
+
+pub fn optimize(
+    input: &Path,
+    output: &Path,
+    format: Option<Format>,
+    encoding: &EncodingArgs,
+    opts: &OptArgs,
+    picture: Option<&Path>,
+    as_json: bool,
+) -> Result<(), Fail> {
+    let options = opts.options()?;
+    if picture.is_some_and(is_stdout) {
+        return Err(Fail::Usage("--picture needs a file name (- is where draw writes to stdout)".into()));
+    }
+    let picture_format = picture.map(PictureFormat::of).transpose()?;
+    let writer = MeshWriter::for_output(output, format, Format::from_path(input).ok())?;
+    let Loaded { mut data, mut planar } = load(input, &opts.fix_physical)?;
+    // Before the optimizer's topology exists, so that the run's peak memory is not raised.
+    let corners = corner_flags(&planar.mesh, &options);
+    // `write_back` puts the quads back: meanwhile the file's copy is 16 bytes a quad for
+    // nothing, as is the topology once the run is over (the writers need memory too).
+    data.quads = Vec::new();
+    // The input as it was, for the picture only (a copy of the 2D mesh).
+    let before =
+        picture.map(|_| planar.mesh.try_clone()).transpose().map_err(|e| Fail::Other(e.to_string()))?;
+    let optimizer = Optimizer::new(&planar.mesh);
+    let report = run(&optimizer, &mut planar.mesh, &options, !as_json)?;
+    drop(optimizer);
+    if let (Some(path), Some(f), Some(before)) = (picture, picture_format, &before) {
+        let title = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let headings = [
+            "input".to_string(),
+            format!("optimized ({}, {})", options.method.name(), options.boundary.name()),
+        ];
+        let p = picture::layout::before_after(
+            before,
+            &planar.mesh,
+            &title,
+            headings.each_ref().map(String::as_str),
+        );
+        write_picture(path, f, &p)?;
+    }
+    drop(before);
+    let moved = planar.write_back(&mut data);
+    annotate(&mut data, &planar, corners);
+    encoding.apply(&mut data);
+    writer.write(output, &data)?;
+    report_on_stderr_if_written_to_stdout(output);
+    if as_json {
+        let mut v = json!({
+            "input": stats_json(&report.input),
+            "output": stats_json(&report.output),
+            "iterations": report.iterations,
+            "seconds": report.seconds,
+            "converged": report.converged,
+            "corners": report.corners,
+            "movable": report.movable,
+            "moved": moved,
+            "reoriented_quads": report.reoriented_quads,
+            "method": options.method.name(),
+            "boundary": options.boundary.name(),
+            "vertices": data.points.len(),
+            "quads": data.quads.len(),
+            "input_file": input.display().to_string(),
+            "output_file": output.display().to_string(),
+        });
+        if let Some(path) = picture {
+            v["picture_file"] = json!(path.display().to_string());
+        }
+        if let (Value::Object(v), Value::Object(extra)) = (&mut v, report_json(&report)) {
+            v.extend(extra);
+        }
+        outln!("{v}");
+        return Ok(());
+    }
+    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!("method {}, boundary {}", options.method.name(), options.boundary.name());
+    outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
+    let sweeps = report.max_min.map(|g| ("sweeps", g.before));
+    for (name, s) in [("input", report.input)].into_iter().chain(sweeps).chain([("output", report.output)]) {
+        outln!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
+    }
+    outln!(
+        "{} iterations ({}), {:.3} s; {} corners, {} movable vertices, {} moved, {} quads reoriented",
+        report.iterations,
+        if report.converged { "converged" } else { "iteration cap" },
+        report.seconds,
+        report.corners,
+        report.movable,
+        moved,
+        report.reoriented_quads
+    );
+    let f = &report.fidelity;
+    let modes: Vec<&str> = report.loop_modes.iter().map(|m| m.name()).collect();
+    outln!(
+        "boundary: modes per loop [{}]; largest deviation {:.3e} ({:.3e} of the mean edge), Hausdorff {:.3e} ({:.3e})",
+        modes.join(", "),
+        f.max_deviation,
+        f.max_deviation_relative,
+        f.hausdorff,
+        f.hausdorff_relative
+    );
+    print_tangled(&report);
+    if let Some(path) = picture {
+        outln!("wrote the picture {}", path.display());
+    }
+    if is_stdout(output) {
+        outln!("wrote the mesh to stdout");
+    } else {
+        outln!("wrote {}", output.display());
+    }
+    Ok(())
+}
+
+/// One line per quad still inverted, with the reason.
+fn print_tangled(r: &Report) {
+    for t in r.tangled.iter().take(20) {
+        outln!("  quad {} still inverted: {}", t.quad, t.reason.describe());
+    }
+    if r.tangled.len() > 20 {
+        outln!("  ... and {} more", r.tangled.len() - 20);
+    }
+}

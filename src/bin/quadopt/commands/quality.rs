@@ -1,0 +1,57 @@
+//! `quadopt quality IN`: the quality of a mesh and its histogram; with `-o`, the mesh
+//! annotated with its quality and flags.
+
+use crate::annotation::{annotate, corner_flags};
+use crate::cli::EncodingArgs;
+use crate::fail::Fail;
+use crate::json::stats_json;
+use crate::mesh_files::{Loaded, MeshWriter, load};
+use crate::picture;
+use crate::stdout::report_on_stderr_if_written_to_stdout;
+use quadopt::io::Format;
+use quadopt::{Options, QualityStats};
+use serde_json::json;
+use std::path::Path;
+
+pub fn quality(
+    input: &Path,
+    output: Option<&Path>,
+    format: Option<Format>,
+    encoding: &EncodingArgs,
+    as_json: bool,
+) -> Result<(), Fail> {
+    let Loaded { mut data, planar } = load(input, &[])?;
+    let values = planar.mesh.quality_values();
+    if let Some(output) = output {
+        let corners = corner_flags(&planar.mesh, &Options::default());
+        annotate(&mut data, &planar, corners);
+        encoding.apply(&mut data);
+        MeshWriter::for_output(output, format, Format::from_path(input).ok())?.write(output, &data)?;
+        // The mesh went to stdout: the report goes to stderr.
+        report_on_stderr_if_written_to_stdout(output);
+    }
+    let s = QualityStats::from_values(&values);
+    let h = picture::histogram(&values);
+    if as_json {
+        let mut v = stats_json(&s);
+        v["file"] = json!(input.display().to_string());
+        v["vertices"] = json!(data.points.len());
+        v["quads"] = json!(data.quads.len());
+        v["histogram"] = json!(h);
+        outln!("{v}");
+        return Ok(());
+    }
+    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!("scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
+    let most = h.iter().copied().max().unwrap_or(1).max(1);
+    for (i, &count) in h.iter().enumerate() {
+        let label = if i == 0 {
+            "    <= 0.0".to_string()
+        } else {
+            format!("({:.1}, {:.1}]", (i - 1) as f64 / 10.0, i as f64 / 10.0)
+        };
+        let bar = "#".repeat((count * 40).div_ceil(most));
+        outln!("  {label:>10} {count:>7} {bar}");
+    }
+    Ok(())
+}

@@ -1,0 +1,96 @@
+//! `quadopt` with no arguments: optimizes every bundled sample mesh and prints a report like
+//! the paper's Table 1.
+
+use crate::fail::Fail;
+use crate::mesh_files::{Loaded, load};
+use crate::progress::run;
+use quadopt::io::Format;
+use quadopt::{Optimizer, Options};
+use std::path::{Path, PathBuf};
+
+/// The bundled sample meshes: `data/` of the crate, else `./data`.
+fn data_dir() -> PathBuf {
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    if bundled.is_dir() { bundled } else { PathBuf::from("data") }
+}
+
+pub fn run_data_dir() -> Result<(), Fail> {
+    let dir = data_dir();
+    let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
+        Ok(entries) => entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_file() && Format::from_path(p).is_ok())
+            .collect(),
+        Err(e) => {
+            return Err(Fail::Other(format!(
+                "no sample meshes: cannot read the data directory {}: {e} (run `quadopt --help` for the commands)",
+                dir.display()
+            )));
+        }
+    };
+    if files.is_empty() {
+        return Err(Fail::Other(format!(
+            "no sample meshes (.obj, .off, .vtk, .msh, .vtu) in {} (run `quadopt --help` for the commands)",
+            dir.display()
+        )));
+    }
+    files.sort();
+    let options = Options::default();
+    // Relative to the working directory when inside it: what a user would type.
+    let shown =
+        std::env::current_dir().ok().and_then(|cwd| dir.strip_prefix(cwd).ok().map(Path::to_path_buf));
+    outln!(
+        "quadopt: {} meshes in {}, method {}, boundary {}",
+        files.len(),
+        shown.as_deref().unwrap_or(&dir).display(),
+        options.method.name(),
+        options.boundary.name()
+    );
+    outln!(
+        "{:28} {:>7} {:>7}  {:>23}  {:>23}  {:>9} {:>6} {:>8}",
+        "model",
+        "#V",
+        "#F",
+        "input min/avg/max",
+        "output min/avg/max",
+        "inverted",
+        "iters",
+        "time (s)"
+    );
+    let mut failed = 0;
+    for path in &files {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let result = load(path, &[]).and_then(|Loaded { data, mut planar }| {
+            let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
+            Ok((data, report))
+        });
+        match result {
+            Ok((data, r)) => {
+                let (i, o) = (&r.input, &r.output);
+                outln!(
+                    "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
+                    data.points.len(),
+                    data.quads.len(),
+                    i.min,
+                    i.avg,
+                    i.max,
+                    o.min,
+                    o.avg,
+                    o.max,
+                    i.inverted,
+                    o.inverted,
+                    r.iterations,
+                    r.seconds
+                );
+            }
+            Err(Fail::Usage(m) | Fail::Other(m)) => {
+                failed += 1;
+                outln!("{name:28} error: {m}");
+            }
+        }
+    }
+    if failed > 0 {
+        return Err(Fail::Other(format!("{failed} of {} meshes could not be optimized", files.len())));
+    }
+    Ok(())
+}

@@ -1,0 +1,49 @@
+//! Optimizer runs, with a progress bar on stderr when a run takes a while.
+
+use crate::fail::Fail;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use quadopt::{Optimizer, Options, Progress, QuadMesh, Report};
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// How long a run goes before the progress bar appears.
+const PROGRESS_DELAY: Duration = Duration::from_millis(500);
+
+/// Runs the optimizer. With `progress`, a run lasting more than [`PROGRESS_DELAY`] draws a
+/// progress bar on stderr if stderr is a terminal (cleared at the end).
+pub fn run(
+    optimizer: &Optimizer,
+    mesh: &mut QuadMesh,
+    options: &Options,
+    progress: bool,
+) -> Result<Report, Fail> {
+    if !progress || !std::io::stderr().is_terminal() {
+        return Ok(optimizer.run(mesh, options, None)?);
+    }
+    let start = Instant::now();
+    let mut bar: Option<ProgressBar> = None;
+    let mut cb = |p: &Progress| {
+        if bar.is_none() && start.elapsed() >= PROGRESS_DELAY {
+            let b =
+                ProgressBar::with_draw_target(Some(p.max_iterations as u64), ProgressDrawTarget::stderr());
+            if let Ok(style) =
+                ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} sweeps, {msg} ({elapsed})")
+            {
+                b.set_style(style.progress_chars("=> "));
+            }
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_prefix(format!("pass {}/{}", p.pass, p.passes));
+            b.set_length(p.max_iterations as u64);
+            b.set_position(p.iteration as u64);
+            b.set_message(format!("energy {:.6e}", p.energy));
+        }
+        true
+    };
+    let report = optimizer.run(mesh, options, Some(&mut cb));
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    Ok(report?)
+}

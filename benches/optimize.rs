@@ -67,13 +67,11 @@ fn benches(c: &mut Criterion) {
         let mut group = c.benchmark_group(format!("{n}"));
         group.sample_size(10).warm_up_time(Duration::from_millis(500));
         group.bench_function(BenchmarkId::new("topology", n), |b| b.iter(|| Topology::new(black_box(&mesh))));
-        let sweep = Options {
-            boundary: BoundaryMode::Slide,
-            max_iterations: 1,
-            untangle: false,
-            max_min: false,
-            ..Options::default()
-        };
+        let sweep = Options::default()
+            .with_boundary(BoundaryMode::Slide)
+            .with_max_iterations(1)
+            .with_untangle(false)
+            .with_max_min(false);
         group.bench_function(BenchmarkId::new("sweep", n), |b| {
             b.iter_batched_ref(
                 || mesh.clone(),

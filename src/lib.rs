@@ -20,7 +20,7 @@
 //! points[4] = DVec2::new(1.6, 1.5);
 //! let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
 //! let mut mesh = QuadMesh::new(points, quads, None).unwrap();
-//! let options = Options { boundary: BoundaryMode::Fixed, tau: 1e-12, ..Options::default() };
+//! let options = Options::default().with_boundary(BoundaryMode::Fixed).with_tau(1e-12);
 //! let report = optimize(&mut mesh, &options).unwrap();
 //! assert!(report.output.min > report.input.min);
 //! assert!((mesh.points()[4] - DVec2::new(1.0, 1.0)).length() < 1e-3);

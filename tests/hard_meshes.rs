@@ -58,7 +58,7 @@ fn plain_best(mesh: &QuadMesh) -> QualityStats {
     let mut best: Option<QualityStats> = None;
     for boundary in [BoundaryMode::Slide, BoundaryMode::Snap] {
         let mut m = mesh.clone();
-        let r = optimize(&mut m, &Options { boundary, ..Options::paper() }).unwrap();
+        let r = optimize(&mut m, &Options::paper().with_boundary(boundary)).unwrap();
         if best.is_none_or(|b| r.output.better_than(&b)) {
             best = Some(r.output);
         }

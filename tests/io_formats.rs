@@ -306,7 +306,7 @@ fn tilted_plane_mesh_is_optimized_in_its_plane() {
     let original = data.clone();
     let mut planar = PlanarMesh::new(&data).unwrap();
     assert!(matches!(planar.frame, PlanarFrame::Tilted { .. }));
-    let options = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
+    let options = Options::default().with_boundary(BoundaryMode::Fixed);
     let report = optimize(&mut planar.mesh, &options).unwrap();
     assert!(report.output.avg > report.input.avg);
     assert_eq!(planar.moved(&data).len(), 9, "exactly the interior vertices moved");
@@ -329,7 +329,7 @@ fn axis_aligned_plane_keeps_the_constant_coordinate() {
     let mut planar = PlanarMesh::new(&data).unwrap();
     // The unused vertex at z = 7 does not count.
     assert_eq!(planar.frame, PlanarFrame::Axis { axis: 2, value: -5.0 });
-    optimize(&mut planar.mesh, &Options { boundary: BoundaryMode::Fixed, ..Options::default() }).unwrap();
+    optimize(&mut planar.mesh, &Options::default().with_boundary(BoundaryMode::Fixed)).unwrap();
     planar.write_back(&mut data);
     assert!(data.points[..25].iter().all(|p| p[2] == -5.0));
     assert_eq!(data.points[25], [100.0, -3.0, 7.0]);

@@ -72,7 +72,8 @@ fn topology_and_runs_stay_within_the_memory_checked_for() {
         let mut run_worst = 0;
         for method in Method::ALL {
             for boundary in BoundaryMode::ALL {
-                let options = Options { method, boundary, max_iterations: 20, ..Options::default() };
+                let options =
+                    Options::default().with_method(method).with_boundary(boundary).with_max_iterations(20);
                 let mut m = mesh.clone();
                 let (report, run) = peak_of(|| optimizer.run(&mut m, &options, None));
                 report.unwrap();

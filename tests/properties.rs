@@ -326,23 +326,24 @@ fn valid_options() -> impl Strategy<Value = Options> {
         (any::<bool>(), any::<bool>(), prop::option::of(0.0f64..1.0)),
     )
         .prop_map(
-            |((m, b, lambda), (tau, tau_abs, iters), (fa, guard, floor), (untangle, best, dev))| Options {
-                method: m,
-                boundary: b,
-                lambda,
-                // Both rules, drawn with the energy rule's own flag.
-                stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
-                // With and without the max-min stage, drawn with the guard's flag.
-                max_min: guard,
-                tau,
-                tau_absolute: tau_abs,
-                max_iterations: iters,
-                feature_angle_deg: fa,
-                guard,
-                guard_floor: floor,
-                untangle,
-                keep_best: best,
-                max_boundary_deviation: dev,
+            |((m, b, lambda), (tau, tau_abs, iters), (fa, guard, floor), (untangle, best, dev))| {
+                Options::DEFAULT
+                    .with_method(m)
+                    .with_boundary(b)
+                    .with_lambda(lambda)
+                    // Both rules, drawn with the energy rule's own flag.
+                    .with_stop(if tau_abs { StopRule::Energy } else { StopRule::Quality })
+                    // With and without the max-min stage, drawn with the guard's flag.
+                    .with_max_min(guard)
+                    .with_tau(tau)
+                    .with_tau_absolute(tau_abs)
+                    .with_max_iterations(iters)
+                    .with_feature_angle_deg(fa)
+                    .with_guard(guard)
+                    .with_guard_floor(floor)
+                    .with_untangle(untangle)
+                    .with_keep_best(best)
+                    .with_max_boundary_deviation(dev)
             },
         )
 }
@@ -371,24 +372,23 @@ fn any_options() -> impl Strategy<Value = Options> {
         prop::option::of(wild_f64()),
     )
         .prop_map(|((m, b, lambda, tau, tau_abs, iters), (fa, guard, floor, untangle, best), dev)| {
-            Options {
-                method: m,
-                boundary: b,
-                lambda,
+            Options::DEFAULT
+                .with_method(m)
+                .with_boundary(b)
+                .with_lambda(lambda)
                 // Both rules, drawn with the energy rule's own flag.
-                stop: if tau_abs { StopRule::Energy } else { StopRule::Quality },
+                .with_stop(if tau_abs { StopRule::Energy } else { StopRule::Quality })
                 // With and without the max-min stage, drawn with the guard's flag.
-                max_min: guard,
-                tau,
-                tau_absolute: tau_abs,
-                max_iterations: iters,
-                feature_angle_deg: fa,
-                guard,
-                guard_floor: floor,
-                untangle,
-                keep_best: best,
-                max_boundary_deviation: dev,
-            }
+                .with_max_min(guard)
+                .with_tau(tau)
+                .with_tau_absolute(tau_abs)
+                .with_max_iterations(iters)
+                .with_feature_angle_deg(fa)
+                .with_guard(guard)
+                .with_guard_floor(floor)
+                .with_untangle(untangle)
+                .with_keep_best(best)
+                .with_max_boundary_deviation(dev)
         })
 }
 
@@ -448,8 +448,12 @@ fn check_preserved(before: &QuadMesh, after: &QuadMesh, options: &Options) -> Re
 
 /// Everything in a report except the wall-clock time.
 fn report_without_time(r: &Report) -> Report {
-    let max_min = r.max_min.map(|g| quadopt::MaxMinGain { seconds: 0.0, ..g });
-    Report { seconds: 0.0, max_min, ..r.clone() }
+    let mut r = r.clone();
+    r.seconds = 0.0;
+    if let Some(g) = &mut r.max_min {
+        g.seconds = 0.0;
+    }
+    r
 }
 
 // ---------------------------------------------------------------------------------------
@@ -507,7 +511,7 @@ proptest! {
         for method in Method::ALL {
             for boundary in BoundaryMode::ALL {
                 let mut out = mesh.clone();
-                let r = optimize(&mut out, &Options { method, boundary, ..Options::default() }).unwrap();
+                let r = optimize(&mut out, &Options::default().with_method(method).with_boundary(boundary)).unwrap();
                 let got = out.quality();
                 prop_assert_eq!(r.input, input);
                 prop_assert_eq!(r.output, got, "{:?}/{:?}: report differs from the mesh", method, boundary);
@@ -543,7 +547,7 @@ proptest! {
     fn default_options_preserve_pinned_vertices_and_boundary(case in case(), method in method(),
                                                              boundary in boundary_mode()) {
         let mesh = valid(&case)?;
-        let options = Options { method, boundary, ..Options::default() };
+        let options = Options::default().with_method(method).with_boundary(boundary);
         let mut out = mesh.clone();
         optimize(&mut out, &options).unwrap();
         check_preserved(&mesh, &out, &options)?;
@@ -577,7 +581,7 @@ proptest! {
     fn output_does_not_depend_on_thread_count(case in case(), options in valid_options(),
                                               full in any::<bool>()) {
         let mesh = valid(&case)?;
-        let options = if full { Options { method: options.method, boundary: options.boundary, ..Options::default() } } else { options };
+        let options = if full { Options::default().with_method(options.method).with_boundary(options.boundary) } else { options };
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut out = mesh.clone();
@@ -802,7 +806,7 @@ fn new_inversions(mesh: &QuadMesh) -> Vec<(Method, BoundaryMode, usize, usize)> 
     for method in Method::ALL {
         for boundary in BoundaryMode::ALL {
             let mut m = mesh.clone();
-            optimize(&mut m, &Options { method, boundary, ..Options::default() }).unwrap();
+            optimize(&mut m, &Options::default().with_method(method).with_boundary(boundary)).unwrap();
             let after = m.quality_values();
             let new = before.iter().zip(&after).filter(|&(&a, &b)| a > 0.0 && b <= 0.0).count();
             out.push((method, boundary, after.iter().filter(|&&v| v <= 0.0).count(), new));
@@ -820,7 +824,7 @@ fn tangled_polygon_mesh_keeps_the_count_guarantees() {
     assert_eq!(input.inverted, 20);
     for method in Method::ALL {
         for boundary in BoundaryMode::ALL {
-            let options = Options { method, boundary, ..Options::default() };
+            let options = Options::default().with_method(method).with_boundary(boundary);
             let mut out = mesh.clone();
             let r = optimize(&mut out, &options).unwrap();
             assert!(
@@ -891,7 +895,7 @@ fn saved_fuzz_files_read_and_optimize() {
             let data = io::read_mesh_bytes(&bytes, format).unwrap_or_else(|e| panic!("{name}: {e}"));
             let mesh = io::PlanarMesh::new(&data).unwrap_or_else(|e| panic!("{name}: {e}")).mesh;
             assert!(loop_lengths(&mesh).contains(&0.0), "{name}: no boundary loop of length 0");
-            let options = Options { max_iterations: 5, ..Options::default() };
+            let options = Options::default().with_max_iterations(5);
             let (before, opts) = (mesh.clone(), options.clone());
             let (out, r) = within_seconds(30, &name, move || {
                 let mut out = mesh;
@@ -923,25 +927,24 @@ fn huge_coordinate_on_the_boundary_does_not_panic() {
     let q: Vec<[u32; 4]> = (0..10).map(|i| [i, i + 1, i + 12, i + 11]).collect();
     let mesh = QuadMesh::new(p, q, None).unwrap();
     assert_eq!(loop_lengths(&mesh), vec![f64::INFINITY]);
-    let options = Options {
-        method: Method::AngleBased,
-        boundary: BoundaryMode::Auto,
-        lambda: 3.7857706061224e-270,
-        stop: StopRule::Energy,
-        max_min: true,
-        tau: 2.5193042437317942e93,
-        tau_absolute: true,
-        max_iterations: 32,
-        feature_angle_deg: 7.291701411337593e-304,
-        guard: true,
-        guard_floor: 7.0076790360759e-310,
-        untangle: false,
-        keep_best: false,
-        max_boundary_deviation: None,
-    };
+    let options = Options::DEFAULT
+        .with_method(Method::AngleBased)
+        .with_boundary(BoundaryMode::Auto)
+        .with_lambda(3.7857706061224e-270)
+        .with_stop(StopRule::Energy)
+        .with_max_min(true)
+        .with_tau(2.5193042437317942e93)
+        .with_tau_absolute(true)
+        .with_max_iterations(32)
+        .with_feature_angle_deg(7.291701411337593e-304)
+        .with_guard(true)
+        .with_guard_floor(7.0076790360759e-310)
+        .with_untangle(false)
+        .with_keep_best(false)
+        .with_max_boundary_deviation(None);
     options.validate().unwrap();
     for boundary in BoundaryMode::ALL {
-        let options = Options { boundary, ..options.clone() };
+        let options = options.clone().with_boundary(boundary);
         let mut out = mesh.clone();
         optimize(&mut out, &options).unwrap();
         assert!(out.points().iter().all(|p| p.is_finite()), "{boundary:?}");
@@ -969,16 +972,14 @@ fn overflowing_target_leaves_the_vertex_in_place() {
     let mesh = QuadMesh::new(p, q, None).unwrap();
     for method in Method::ALL {
         for boundary in BoundaryMode::ALL {
-            let options = Options {
-                method,
-                boundary,
-                tau_absolute: true,
-                max_iterations: 33,
-                guard: false,
-                untangle: false,
-                keep_best: false,
-                ..Options::default()
-            };
+            let options = Options::default()
+                .with_method(method)
+                .with_boundary(boundary)
+                .with_tau_absolute(true)
+                .with_max_iterations(33)
+                .with_guard(false)
+                .with_untangle(false)
+                .with_keep_best(false);
             let mut out = mesh.clone();
             optimize(&mut out, &options).unwrap();
             assert!(

@@ -185,7 +185,7 @@ fn meshes() -> Vec<(String, QuadMesh)> {
         let mut base = mesh.clone();
         // The energy rule, as when the floor was recorded: the jittered meshes stay the same.
         let fixed_boundary =
-            Options { boundary: BoundaryMode::Fixed, stop: StopRule::Energy, ..Options::default() };
+            Options::default().with_boundary(BoundaryMode::Fixed).with_stop(StopRule::Energy);
         optimizer.run(&mut base, &fixed_boundary, None).unwrap();
         let shaken = jittered(&base, &Topology::new(&base), 0.9, 7);
         out.push((name.clone(), mesh));
@@ -250,7 +250,7 @@ fn the_default_never_ends_below_the_recorded_floor() {
         let report = quadopt::optimize(&mut mesh, &options).unwrap();
         let out = report.output;
         let mut sweeps_only = original.clone();
-        quadopt::optimize(&mut sweeps_only, &Options { max_min: false, ..options.clone() }).unwrap();
+        quadopt::optimize(&mut sweeps_only, &options.clone().with_max_min(false)).unwrap();
         let ratios = [edge_ratio(&original), edge_ratio(&sweeps_only), edge_ratio(&mesh)];
         let ratio = ratios[2];
         let ratio_bar = EDGE_RATIO_KEPT * ratios[0].min(ratios[1]);
@@ -313,7 +313,7 @@ fn the_default_never_ends_below_the_recorded_floor() {
             ));
         }
         if energy_check {
-            let energy = Options { stop: StopRule::Energy, ..options.clone() };
+            let energy = options.clone().with_stop(StopRule::Energy);
             let mut again = original;
             let out = quadopt::optimize(&mut again, &energy).unwrap().output;
             let f = floor.unwrap();

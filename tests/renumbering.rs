@@ -59,7 +59,7 @@ fn a_large_mesh_numbered_any_way_gives_the_same_result() {
     // Some interior vertices fixed, spread over the mesh.
     let pinned: Vec<usize> = (0..base.points().len()).step_by(997).collect();
     let mesh = with_fixed(&base, &pinned);
-    let options = Options { max_iterations: 30, ..Options::default() };
+    let options = Options::default().with_max_iterations(30);
     // The generator's row-major order is local and kept; shuffled copies are renumbered,
     // each into the same internal order. Results in the original numbering:
     let mut reference: Option<(Vec<DVec2>, quadopt::Report)> = None;
@@ -109,7 +109,7 @@ fn tangled_quads_are_reported_in_the_callers_numbering() {
     }
     let mesh = QuadMesh::new(points, base.quads().to_vec(), Some(fixed)).unwrap();
     assert!(scaled_jacobian(&corners(mesh.points(), &mesh.quads()[k])) < 0.0);
-    let options = Options { max_iterations: 10, ..Options::default() };
+    let options = Options::default().with_max_iterations(10);
     let (input, _, quad_new_of) = shuffled(&mesh, 3);
     for (mesh, k) in [(mesh, k), (input, quad_new_of[k] as usize)] {
         let mut out = mesh.clone();

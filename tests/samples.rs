@@ -118,7 +118,7 @@ fn configs() -> Vec<Options> {
     let mut v = Vec::new();
     for method in Method::ALL {
         for boundary in [BoundaryMode::Auto, BoundaryMode::Fixed, BoundaryMode::Slide, BoundaryMode::Snap] {
-            v.push(Options { method, boundary, ..Options::default() });
+            v.push(Options::default().with_method(method).with_boundary(boundary));
         }
     }
     v
@@ -248,7 +248,7 @@ fn the_checks_detect_violations() {
     let f = preservation_failures(&mesh, &off, &topo, &options);
     assert!(f.len() == 1 && f[0].contains("left their original boundary loop"), "{f:?}");
     // With a fixed boundary the same move also breaks bit-identity.
-    let fixed = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
+    let fixed = Options::default().with_boundary(BoundaryMode::Fixed);
     assert_eq!(preservation_failures(&mesh, &off, &topo, &fixed).len(), 2);
 }
 
@@ -317,7 +317,7 @@ fn jittered_samples_are_untangled_and_beat_the_plain_method() {
         let (name, mesh, _) = load(path);
         let optimizer = Optimizer::new(&mesh);
         let mut base = mesh.clone();
-        let fixed_boundary = Options { boundary: BoundaryMode::Fixed, ..Options::default() };
+        let fixed_boundary = Options::default().with_boundary(BoundaryMode::Fixed);
         optimizer.run(&mut base, &fixed_boundary, None).unwrap();
         assert_eq!(base.quality().inverted, 0, "{name}: the fixed-boundary base is not valid");
         let topology = Topology::new(&base);
@@ -340,8 +340,8 @@ fn jittered_samples_are_untangled_and_beat_the_plain_method() {
         if d.min < q.min {
             failures.push(format!("{name} (jittered): minimum {} below the input's {}", d.min, q.min));
         }
-        let slide = run(&Options { boundary: BoundaryMode::Slide, ..Options::paper() }).quality();
-        let snap = run(&Options { boundary: BoundaryMode::Snap, ..Options::paper() }).quality();
+        let slide = run(&Options::paper().with_boundary(BoundaryMode::Slide)).quality();
+        let snap = run(&Options::paper().with_boundary(BoundaryMode::Snap)).quality();
         let plain = if snap.better_than(&slide) { snap } else { slide };
         // Differences below TIE are ties: the optimizer's own ranking of iterates treats
         // minima closer than 1e-3 as equal.

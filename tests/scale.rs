@@ -232,7 +232,7 @@ fn quality_under_translation_is_within_the_stated_bound() {
 /// coordinates, so any scale factor gives the unit result to within rounding. (The max-min
 /// stage's greedy choices are not: see `the_max_min_stage_is_close_at_every_scale`.)
 fn sweeps() -> Options {
-    Options { max_min: false, ..Options::default() }
+    Options::default().with_max_min(false)
 }
 
 /// How far the default run (with the max-min stage) may end from the unit-scale run's minimum

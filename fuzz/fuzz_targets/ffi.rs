@@ -128,43 +128,44 @@ fn last_error() -> String {
 
 /// The Rust options the C options stand for (None when the C enum values are invalid).
 fn rust_options(o: &QuadoptOptions) -> Option<Options> {
-    Some(Options {
-        method: match o.method {
-            0 => Method::EmbeddedPolygon,
-            1 => Method::Laplacian,
-            2 => Method::Cotangent,
-            3 => Method::AngleBased,
-            _ => return None,
-        },
-        boundary: match o.boundary {
-            0 => BoundaryMode::Auto,
-            1 => BoundaryMode::Fixed,
-            2 => BoundaryMode::Slide,
-            3 => BoundaryMode::Snap,
-            _ => return None,
-        },
-        lambda: o.lambda,
-        stop: match o.stop_rule {
-            0 => StopRule::Energy,
-            1 => StopRule::Quality,
-            _ => return None,
-        },
-        tau: o.tau,
-        tau_absolute: o.tau_absolute != 0,
-        max_iterations: o.max_iterations as usize,
-        feature_angle_deg: o.feature_angle_deg,
-        guard: o.guard != 0,
-        guard_floor: o.guard_floor,
-        untangle: o.untangle != 0,
-        keep_best: o.keep_best != 0,
-        // Negative means unlimited; NaN is kept (and refused by validation).
-        max_boundary_deviation: if o.max_boundary_deviation < 0.0 {
-            None
-        } else {
-            Some(o.max_boundary_deviation)
-        },
-        max_min: o.max_min != 0,
-    })
+    Some(
+        Options::DEFAULT
+            .with_method(match o.method {
+                0 => Method::EmbeddedPolygon,
+                1 => Method::Laplacian,
+                2 => Method::Cotangent,
+                3 => Method::AngleBased,
+                _ => return None,
+            })
+            .with_boundary(match o.boundary {
+                0 => BoundaryMode::Auto,
+                1 => BoundaryMode::Fixed,
+                2 => BoundaryMode::Slide,
+                3 => BoundaryMode::Snap,
+                _ => return None,
+            })
+            .with_lambda(o.lambda)
+            .with_stop(match o.stop_rule {
+                0 => StopRule::Energy,
+                1 => StopRule::Quality,
+                _ => return None,
+            })
+            .with_tau(o.tau)
+            .with_tau_absolute(o.tau_absolute != 0)
+            .with_max_iterations(o.max_iterations as usize)
+            .with_feature_angle_deg(o.feature_angle_deg)
+            .with_guard(o.guard != 0)
+            .with_guard_floor(o.guard_floor)
+            .with_untangle(o.untangle != 0)
+            .with_keep_best(o.keep_best != 0)
+            // Negative means unlimited; NaN is kept (and refused by validation).
+            .with_max_boundary_deviation(if o.max_boundary_deviation < 0.0 {
+                None
+            } else {
+                Some(o.max_boundary_deviation)
+            })
+            .with_max_min(o.max_min != 0),
+    )
 }
 
 fn run(input: Input) {

@@ -58,7 +58,7 @@ fn optimize_file_mesh(mut data: MeshData, format: Format) {
         return;
     }
     let Ok(mut planar) = PlanarMesh::new(&data) else { return };
-    let options = Options { max_iterations: 5, ..Options::default() };
+    let options = Options::default().with_max_iterations(5);
     let report = optimize(&mut planar.mesh, &options).expect("default options are valid");
     assert!(planar.mesh.points().iter().all(|p| p.is_finite()));
     assert!(report.output.inverted <= report.input.inverted);
@@ -94,22 +94,21 @@ impl RawOptions {
     pub fn options(&self) -> Options {
         let d = Options::default();
         let reals = !self.default_reals;
-        Options {
-            method: Method::ALL[self.method as usize % 4],
-            boundary: BoundaryMode::ALL[self.boundary as usize % 4],
-            lambda: if reals { self.lambda } else { d.lambda },
-            tau: if reals { self.tau } else { d.tau },
-            tau_absolute: self.tau_absolute,
-            max_iterations: self.max_iterations as usize % (MAX_ITERATIONS + 1),
-            feature_angle_deg: if reals { self.feature_angle_deg } else { d.feature_angle_deg },
-            guard: self.guard,
-            guard_floor: if reals { self.guard_floor } else { d.guard_floor },
-            untangle: self.untangle,
-            keep_best: self.keep_best,
-            max_boundary_deviation: if reals { self.max_boundary_deviation } else { None },
-            max_min: self.max_min,
-            stop: if self.quality_stop { StopRule::Quality } else { StopRule::Energy },
-        }
+        Options::DEFAULT
+            .with_method(Method::ALL[self.method as usize % 4])
+            .with_boundary(BoundaryMode::ALL[self.boundary as usize % 4])
+            .with_lambda(if reals { self.lambda } else { d.lambda })
+            .with_tau(if reals { self.tau } else { d.tau })
+            .with_tau_absolute(self.tau_absolute)
+            .with_max_iterations(self.max_iterations as usize % (MAX_ITERATIONS + 1))
+            .with_feature_angle_deg(if reals { self.feature_angle_deg } else { d.feature_angle_deg })
+            .with_guard(self.guard)
+            .with_guard_floor(if reals { self.guard_floor } else { d.guard_floor })
+            .with_untangle(self.untangle)
+            .with_keep_best(self.keep_best)
+            .with_max_boundary_deviation(if reals { self.max_boundary_deviation } else { None })
+            .with_max_min(self.max_min)
+            .with_stop(if self.quality_stop { StopRule::Quality } else { StopRule::Energy })
     }
 }
 

@@ -4,7 +4,7 @@
 //!
 //! Every entry point
 //! - runs inside a panic boundary ([`std::panic::catch_unwind`]); a panic becomes
-//!   [`QuadoptStatus::Panic`] instead of unwinding into (and aborting) the host program;
+//!   `QuadoptStatus::Panic` instead of unwinding into (and aborting) the host program;
 //! - checks its pointers, counts, sizes and alignment before touching memory, with
 //!   `checked_mul` and the `isize::MAX` byte limit of Rust slices;
 //! - copies its inputs into owned Rust values first, computes, and writes the caller's
@@ -12,32 +12,32 @@
 //! - allocates what grows with the input fallibly, and checks that the memory the topology
 //!   and the optimizer need at their peak is available before they start (their allocations,
 //!   rayon's among them, are not all fallible), so a mesh too large for the memory gives
-//!   [`QuadoptStatus::OutOfMemory`] instead of aborting the host;
+//!   `QuadoptStatus::OutOfMemory` instead of aborting the host;
 //! - runs the optimizer on the library's own worker threads (`src/pool.rs`), which survive
 //!   `fork`;
 //! - records a detailed message (which quad, which index, which option) in a thread-local
-//!   buffer read by [`quadopt_last_error`], and prints nothing (`ffi/quiet.rs`). The only other
+//!   buffer read by `quadopt_last_error`, and prints nothing (`ffi/quiet.rs`). The only other
 //!   global state is the worker pool.
 //!
 //! Enum-valued option fields are plain `u32` in the structs (a C caller can store any integer
 //! there, which must never be read as a Rust enum) and are validated when converted.
-//! Growable structs ([`QuadoptOptions`], [`QuadoptReport`]) start with `struct_size`: the
+//! Growable structs (`QuadoptOptions`, `QuadoptReport`) start with `struct_size`: the
 //! library reads (or writes) only the prefix the caller declared.
 //!
 //! # Layout
 //!
 //! - `boundary.rs`: the panic boundary, the checks of the caller's pointers and counts, the
 //!   checked reads of the caller's arrays into owned memory and the write of the coordinates;
-//! - `status.rs`: [`QuadoptStatus`], the internal error on its way to the caller, the
-//!   thread-local last-error message, [`quadopt_status_string`] and [`quadopt_last_error`];
-//! - `options.rs`: [`QuadoptOptions`] and its enums, the progress callback type, reading the
-//!   caller's prefix, conversion to the crate's `Options`, and [`quadopt_options_init`], the
+//! - `status.rs`: `QuadoptStatus`, the internal error on its way to the caller, the
+//!   thread-local last-error message, `quadopt_status_string` and `quadopt_last_error`;
+//! - `options.rs`: `QuadoptOptions` and its enums, the progress callback type, reading the
+//!   caller's prefix, conversion to the crate's `Options`, and `quadopt_options_init`, the
 //!   one way to initialize options;
-//! - `report.rs`: [`QuadoptQuality`], [`QuadoptReport`], writing the caller's prefix, and
-//!   [`quadopt_report_init`];
+//! - `report.rs`: `QuadoptQuality`, `QuadoptReport`, writing the caller's prefix, and
+//!   `quadopt_report_init`;
 //! - `run.rs`: a run on the worker pool with the C progress callback, the memory checks before
-//!   it, [`quadopt_optimize`] and [`quadopt_quality`];
-//! - `handle.rs`: the reusable [`QuadoptOptimizer`] and its functions;
+//!   it, `quadopt_optimize` and `quadopt_quality`;
+//! - `handle.rs`: the reusable `QuadoptOptimizer` and its functions;
 //! - `version.rs`: the version constants and functions;
 //! - `quiet.rs`: the panic hook that keeps caught panics off the host's stderr.
 //!

@@ -60,6 +60,34 @@ pub fn optimize(mesh: &mut QuadMesh, options: &Options) -> Result<Report> {
 ///
 /// A large mesh is worked on in an order of its own, chosen for memory locality
 /// (along a Hilbert curve); results come back in the caller's numbering.
+///
+/// ```
+/// use quadopt::{DVec2, Optimizer, Options, QuadMesh};
+///
+/// // One connectivity (a 2x2 patch), two placements of its centre vertex.
+/// let grid: Vec<DVec2> = (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
+/// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+/// let mut mesh = QuadMesh::new(grid.clone(), quads, None)?;
+/// let optimizer = Optimizer::new(&mesh); // the topology, built once
+///
+/// let options = Options::default();
+/// for centre in [DVec2::new(1.6, 1.5), DVec2::new(0.5, 0.7)] {
+///     let mut points = grid.clone();
+///     points[4] = centre;
+///     mesh.set_points(&points)?;
+///     // A progress callback after every sweep; returning false would cancel the run.
+///     let mut sweeps = 0;
+///     let mut progress = |_: &quadopt::Progress| {
+///         sweeps += 1;
+///         true
+///     };
+///     let report = optimizer.run(&mut mesh, &options, Some(&mut progress))?;
+///     assert!(report.output.min > report.input.min && !report.cancelled);
+///     assert!((mesh.points()[4] - DVec2::new(1.0, 1.0)).length() < 0.1);
+///     assert!(sweeps >= 1);
+/// }
+/// # Ok::<(), quadopt::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Optimizer {
     /// The topology, in the internal numbering when there is one.

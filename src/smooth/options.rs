@@ -172,17 +172,40 @@ impl FromStr for StopRule {
 /// untangling, the automatic boundary mode and a size-independent stopping rule. Set
 /// [`Options::paper`] reproduces the plain method of the paper.
 ///
-/// Build options from the defaults, with the chainable setters (one per field, named as the
-/// field) or with struct update syntax; either keeps compiling when a later version adds a
-/// field:
+/// Build options from the defaults with the chainable `with_*` methods, one per field. The
+/// struct is `#[non_exhaustive]`, so a later version can add a field without breaking a
+/// caller: outside this crate options are built from [`Options::DEFAULT`] (the same as
+/// [`Options::default()`]) or [`Options::paper()`], never as a struct literal. Fields stay
+/// public to read and to assign.
 ///
 /// ```
-/// use quadopt::{BoundaryMode, Options};
-/// let a = Options::default().boundary(BoundaryMode::Fixed).max_iterations(50);
-/// let b = Options { boundary: BoundaryMode::Fixed, max_iterations: 50, ..Options::default() };
-/// assert_eq!(a, b);
+/// use quadopt::{optimize, BoundaryMode, Method, Options, QuadMesh};
+/// # use quadopt::DVec2;
+///
+/// // Laplacian smoothing with the boundary held, at most 50 sweeps.
+/// let options = Options::default()
+///     .with_method(Method::Laplacian)
+///     .with_boundary(BoundaryMode::Fixed)
+///     .with_max_iterations(50);
+/// assert_eq!(options.lambda, 1.0); // every other field keeps its default
+/// options.validate().unwrap();
+///
+/// // The builder is `const`: options can be a constant of the caller's.
+/// const GENTLE: Options = Options::DEFAULT.with_lambda(0.5).with_max_min(false);
+/// assert!(GENTLE.guard && !GENTLE.max_min);
+///
+/// // A 2x2 patch with its centre vertex dragged off-centre.
+/// let mut points: Vec<DVec2> =
+///     (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
+/// points[4] = DVec2::new(1.6, 1.5);
+/// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+/// let mut mesh = QuadMesh::new(points, quads, None)?;
+/// let report = optimize(&mut mesh, &options)?;
+/// assert!(report.output.min > report.input.min);
+/// # Ok::<(), quadopt::Error>(())
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Options {
     /// Interior smoothing method. Default: [`Method::EmbeddedPolygon`].
     pub method: Method,
@@ -228,32 +251,18 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options {
-            method: Method::EmbeddedPolygon,
-            boundary: BoundaryMode::Auto,
-            lambda: 1.0,
-            stop: StopRule::Quality,
-            tau: 1e-7,
-            tau_absolute: false,
-            max_iterations: 1000,
-            feature_angle_deg: 45.0,
-            guard: true,
-            guard_floor: 0.05,
-            untangle: true,
-            keep_best: true,
-            max_boundary_deviation: None,
-            max_min: true,
-        }
+        Options::DEFAULT
     }
 }
 
-/// A chainable setter per field: `Options::default().tau(1e-6).guard(false)`.
-macro_rules! setters {
-    ($($field:ident: $ty:ty),* $(,)?) => {
+/// A chainable `const` builder method per field:
+/// `Options::DEFAULT.with_tau(1e-6).with_guard(false)`.
+macro_rules! builders {
+    ($($with:ident => $field:ident: $ty:ty),* $(,)?) => {
         $(
             #[doc = concat!("Sets [`", stringify!($field), "`](Options#structfield.", stringify!($field), ").")]
             #[must_use]
-            pub fn $field(mut self, value: $ty) -> Options {
+            pub const fn $with(mut self, value: $ty) -> Options {
                 self.$field = value;
                 self
             }
@@ -262,26 +271,44 @@ macro_rules! setters {
 }
 
 impl Options {
-    setters! {
-        method: Method,
-        boundary: BoundaryMode,
-        lambda: f64,
-        stop: StopRule,
-        tau: f64,
-        tau_absolute: bool,
-        max_iterations: usize,
-        feature_angle_deg: f64,
-        guard: bool,
-        guard_floor: f64,
-        untangle: bool,
-        keep_best: bool,
-        max_boundary_deviation: Option<f64>,
-        max_min: bool,
+    /// The defaults (what [`Options::default()`] returns), as a constant to build on.
+    pub const DEFAULT: Options = Options {
+        method: Method::EmbeddedPolygon,
+        boundary: BoundaryMode::Auto,
+        lambda: 1.0,
+        stop: StopRule::Quality,
+        tau: 1e-7,
+        tau_absolute: false,
+        max_iterations: 1000,
+        feature_angle_deg: 45.0,
+        guard: true,
+        guard_floor: 0.05,
+        untangle: true,
+        keep_best: true,
+        max_boundary_deviation: None,
+        max_min: true,
+    };
+
+    builders! {
+        with_method => method: Method,
+        with_boundary => boundary: BoundaryMode,
+        with_lambda => lambda: f64,
+        with_stop => stop: StopRule,
+        with_tau => tau: f64,
+        with_tau_absolute => tau_absolute: bool,
+        with_max_iterations => max_iterations: usize,
+        with_feature_angle_deg => feature_angle_deg: f64,
+        with_guard => guard: bool,
+        with_guard_floor => guard_floor: f64,
+        with_untangle => untangle: bool,
+        with_keep_best => keep_best: bool,
+        with_max_boundary_deviation => max_boundary_deviation: Option<f64>,
+        with_max_min => max_min: bool,
     }
 
     /// The paper's plain method: no guard, no untangling, no max-min stage, the last iterate,
     /// Approach 2 on the boundary, the energy rule with the absolute threshold tau = 1e-4.
-    pub fn paper() -> Options {
+    pub const fn paper() -> Options {
         Options {
             boundary: BoundaryMode::Slide,
             stop: StopRule::Energy,
@@ -291,7 +318,7 @@ impl Options {
             untangle: false,
             keep_best: false,
             max_min: false,
-            ..Options::default()
+            ..Options::DEFAULT
         }
     }
 
@@ -339,20 +366,20 @@ mod tests {
         assert!(d.guard && d.untangle && d.keep_best && d.max_min);
         d.validate().unwrap();
         let set = Options::default()
-            .method(Method::Laplacian)
-            .boundary(BoundaryMode::Snap)
-            .lambda(0.5)
-            .stop(StopRule::Energy)
-            .tau(2e-3)
-            .tau_absolute(true)
-            .max_iterations(7)
-            .feature_angle_deg(30.0)
-            .guard(false)
-            .guard_floor(0.2)
-            .untangle(false)
-            .keep_best(false)
-            .max_boundary_deviation(Some(0.1))
-            .max_min(false);
+            .with_method(Method::Laplacian)
+            .with_boundary(BoundaryMode::Snap)
+            .with_lambda(0.5)
+            .with_stop(StopRule::Energy)
+            .with_tau(2e-3)
+            .with_tau_absolute(true)
+            .with_max_iterations(7)
+            .with_feature_angle_deg(30.0)
+            .with_guard(false)
+            .with_guard_floor(0.2)
+            .with_untangle(false)
+            .with_keep_best(false)
+            .with_max_boundary_deviation(Some(0.1))
+            .with_max_min(false);
         let literal = Options {
             method: Method::Laplacian,
             boundary: BoundaryMode::Snap,

@@ -5,8 +5,10 @@ use super::fidelity::BoundaryFidelity;
 use super::untangle::TangledQuad;
 use crate::quality::QualityStats;
 
-/// Progress of a run, passed to the progress callback after every sweep.
+/// Progress of a run, passed to the progress callback after every sweep. Made only by the
+/// library (`#[non_exhaustive]`: later versions may add fields).
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct Progress {
     /// Sweeps done so far in the current pass (0 while untangling, with NaN energies).
     pub iteration: usize,
@@ -23,8 +25,33 @@ pub struct Progress {
     pub passes: usize,
 }
 
-/// What a run did.
+/// What a run did: the quality before and after, how the run ended, and what it could not fix.
+/// Made only by the library (`#[non_exhaustive]`: later versions may add fields).
+///
+/// ```
+/// use quadopt::{optimize, DVec2, Options, QuadMesh};
+///
+/// // A 2x2 patch with its centre vertex dragged across an edge: one quad is inverted.
+/// let mut points: Vec<DVec2> =
+///     (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
+/// points[4] = DVec2::new(2.2, 1.5);
+/// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+/// let mut mesh = QuadMesh::new(points, quads, None)?;
+/// assert!(mesh.quality().inverted > 0);
+///
+/// let report = optimize(&mut mesh, &Options::default())?;
+/// assert!(report.input.inverted > 0 && report.output.inverted == 0);
+/// assert!(report.output.min > 0.9, "the centre is back near (1, 1)");
+/// assert!(report.tangled.is_empty(), "nothing left inverted");
+/// assert_eq!(report.output, mesh.quality(), "the report describes the mesh it returns");
+/// println!(
+///     "min {:.3} -> {:.3} in {} sweeps ({} untangling)",
+///     report.input.min, report.output.min, report.iterations, report.untangle_sweeps
+/// );
+/// # Ok::<(), quadopt::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Report {
     /// Quality before.
     pub input: QualityStats,
@@ -61,8 +88,9 @@ pub struct Report {
     pub max_min: Option<MaxMinGain>,
 }
 
-/// What the max-min stage changed.
+/// What the max-min stage changed. Made only by the library (`#[non_exhaustive]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct MaxMinGain {
     /// Quality after the sweeps, when the stage started.
     pub before: QualityStats,

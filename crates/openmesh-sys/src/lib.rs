@@ -8,7 +8,7 @@
 //!   (`shim/openmesh_shim.h`), a C interface over an `OpenMesh::PolyMesh_ArrayKernelT` with
 //!   double-precision points and `OpenMesh::IO`;
 //! - the safe API: [`read`] / [`read_bytes`] give a [`MeshArrays`] (points, faces of any
-//!   arity as offsets + indices, the vertex fixed flags) and a [`ReadInfo`]; [`write`] /
+//!   arity as offsets + indices, the vertex fixed flags) and a [`ReadInfo`]; [`write()`] /
 //!   [`write_bytes`] write one back.
 //!
 //! ```no_run

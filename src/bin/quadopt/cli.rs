@@ -239,27 +239,26 @@ pub struct TuneArgs {
 impl TuneArgs {
     pub fn options(&self, method: Method, boundary: BoundaryMode) -> Result<Options, Fail> {
         let base = if self.paper { Options::paper() } else { Options::default() };
-        let o = Options {
-            method,
-            boundary,
-            lambda: self.lambda,
-            tau: self.tau.unwrap_or(base.tau),
-            tau_absolute: base.tau_absolute || self.absolute_tau,
-            max_iterations: self.max_iter,
-            feature_angle_deg: self.feature_angle,
-            guard: base.guard && !self.no_guard,
-            guard_floor: self.guard_floor,
-            untangle: base.untangle && !self.no_untangle,
-            max_boundary_deviation: self.max_boundary_deviation,
-            max_min: base.max_min && !self.no_maxmin,
+        let o = base
+            .clone()
+            .with_method(method)
+            .with_boundary(boundary)
+            .with_lambda(self.lambda)
+            .with_tau(self.tau.unwrap_or(base.tau))
+            .with_tau_absolute(base.tau_absolute || self.absolute_tau)
+            .with_max_iterations(self.max_iter)
+            .with_feature_angle_deg(self.feature_angle)
+            .with_guard(base.guard && !self.no_guard)
+            .with_guard_floor(self.guard_floor)
+            .with_untangle(base.untangle && !self.no_untangle)
+            .with_max_boundary_deviation(self.max_boundary_deviation)
+            .with_max_min(base.max_min && !self.no_maxmin)
             // A threshold on the energy asks for the energy rule.
-            stop: self.stop.unwrap_or(if self.tau.is_some() || self.absolute_tau {
+            .with_stop(self.stop.unwrap_or(if self.tau.is_some() || self.absolute_tau {
                 StopRule::Energy
             } else {
                 base.stop
-            }),
-            ..base
-        };
+            }));
         o.validate().map_err(|e| Fail::Usage(e.to_string()))?;
         Ok(o)
     }

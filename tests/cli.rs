@@ -1,5 +1,9 @@
 //! The `quadopt` binary, run as a user would.
 
+mod common;
+
+use common::grids::{Grid, mesh_data_at_z};
+use quadopt::DVec2;
 use quadopt::io::{self, MeshData};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -24,29 +28,19 @@ fn s(p: &Path) -> &str {
 /// (deterministically) by up to 0.35, and vertex (1, 1) dragged across its neighbours so that
 /// quads fold.
 fn jittered_grid(n: usize) -> MeshData {
-    let mut points = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let interior = i > 0 && j > 0 && i < n && j < n;
-            let (mut x, mut y) = (i as f64, j as f64);
-            if interior {
-                x += 0.35 * ((i * 12 + j * 7) as f64).sin();
-                y += 0.35 * ((i * 5 + j * 13) as f64).cos();
-            }
-            if (i, j) == (1, 1) {
-                (x, y) = (2.3, 2.2);
-            }
-            points.push([x, y, -5.0]);
+    let grid = Grid::square(n);
+    let (points, quads) = grid.placed(|i, j| {
+        let (mut x, mut y) = (i as f64, j as f64);
+        if grid.is_interior(i, j) {
+            x += 0.35 * ((i * 12 + j * 7) as f64).sin();
+            y += 0.35 * ((i * 5 + j * 13) as f64).cos();
         }
-    }
-    let m = (n + 1) as u32;
-    let mut quads = Vec::new();
-    for j in 0..n as u32 {
-        for i in 0..n as u32 {
-            quads.push([j * m + i, j * m + i + 1, (j + 1) * m + i + 1, (j + 1) * m + i]);
+        if (i, j) == (1, 1) {
+            (x, y) = (2.3, 2.2);
         }
-    }
-    MeshData::new(points, quads)
+        DVec2::new(x, y)
+    });
+    mesh_data_at_z(&points, quads, -5.0)
 }
 
 fn json_stdout(out: &Output) -> Value {

@@ -1,6 +1,9 @@
 //! Mesh file formats: round trips (bit-identical coordinates), the hand-written fixtures in
 //! tests/data/io, and precise errors on malformed input.
 
+mod common;
+
+use common::grids::Grid;
 use quadopt::io::{self, Format, IoError, MeshData, MshVersion, PlanarFrame, PlanarMesh};
 use quadopt::{BoundaryMode, Error, Options, optimize};
 use std::path::{Path, PathBuf};
@@ -273,29 +276,19 @@ fn unsupported_variants_are_refused() {
 /// A 4x4 grid of unit squares in the plane through `origin` spanned by `u` and `v`, with the
 /// interior vertices jittered and the boundary vertices fixed.
 fn tilted_grid(origin: [f64; 3], u: [f64; 3], v: [f64; 3]) -> MeshData {
-    let mut points = Vec::new();
-    let mut fixed = Vec::new();
-    for j in 0..5 {
-        for i in 0..5 {
-            let interior = (1..4).contains(&i) && (1..4).contains(&j);
-            let (mut a, mut b) = (i as f64, j as f64);
-            if interior {
-                a += 0.3 * ((i * 7 + j * 3) as f64).sin();
-                b += 0.3 * ((i * 5 + j * 11) as f64).cos();
-            }
-            points.push([0, 1, 2].map(|k| origin[k] + a * u[k] + b * v[k]));
-            fixed.push(!interior);
+    let grid = Grid::square(4);
+    let mut points = grid.per_vertex(|i, j| {
+        let (mut a, mut b) = (i as f64, j as f64);
+        if grid.is_interior(i, j) {
+            a += 0.3 * ((i * 7 + j * 3) as f64).sin();
+            b += 0.3 * ((i * 5 + j * 11) as f64).cos();
         }
-    }
-    let mut quads = Vec::new();
-    for j in 0..4u32 {
-        for i in 0..4u32 {
-            quads.push([j * 5 + i, j * 5 + i + 1, (j + 1) * 5 + i + 1, (j + 1) * 5 + i]);
-        }
-    }
+        [0, 1, 2].map(|k| origin[k] + a * u[k] + b * v[k])
+    });
+    let mut fixed = grid.per_vertex(|i, j| grid.on_boundary(i, j));
     points.push([100.0, -3.0, 7.0]); // unused, far off the plane
     fixed.push(false);
-    MeshData { points, quads, fixed: Some(fixed), ..MeshData::default() }
+    MeshData { points, quads: grid.quads(), fixed: Some(fixed), ..MeshData::default() }
 }
 
 #[test]

@@ -5,29 +5,12 @@
 mod common;
 
 use common::Rng;
+use common::grids::Grid;
 use quadopt::Features;
 use quadopt::quality::{corners, scaled_jacobian};
 use quadopt::testing::BoundaryGeometry;
 use quadopt::testing::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
 use quadopt::{BoundaryMode, DVec2, QuadMesh, Topology};
-
-/// An nx x ny grid of unit squares, vertex (i, j) at index j (nx + 1) + i.
-fn grid(nx: u32, ny: u32) -> (Vec<DVec2>, Vec<[u32; 4]>) {
-    let mut p = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            p.push(DVec2::new(i as f64, j as f64));
-        }
-    }
-    let mut q = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            let a = j * (nx + 1) + i;
-            q.push([a, a + 1, a + nx + 2, a + nx + 1]);
-        }
-    }
-    (p, q)
-}
 
 /// Runs the stage on `mesh` in `mode` (corners at the default 45 degrees); returns the new
 /// positions and the report.
@@ -68,7 +51,7 @@ fn interior_vertex_reaches_the_centre_of_a_symmetric_star() {
     // 2x2 unit squares with the centre dragged off: the star's minimum is 1 only with every
     // corner at 90 degrees, i.e. at the centre (1, 1).
     for solver in [LocalSolver::Grid, LocalSolver::ActiveSet, LocalSolver::GridActiveSet] {
-        let (mut p, q) = grid(2, 2);
+        let (mut p, q) = Grid::new(2, 2).unit();
         p[4] = DVec2::new(1.37, 0.71);
         let mesh = QuadMesh::new(p, q, None).unwrap();
         let settings = MaxMinSettings { solver, ..MaxMinSettings::default() };
@@ -119,7 +102,7 @@ fn boundary_vertex_slides_to_its_optimum_on_a_straight_edge() {
     // quad (0,0) (x,0) (1.5,1) (0,1) has corners 1, 1/r, 1/r, 1 with r = sqrt((1.5-x)^2+1);
     // the right quad (x,0) (2,0) (2,1) (1.5,1) has 1/r, 1, 1, 1/r. The star minimum 1/r is
     // highest (1) at x = 1.5.
-    let (mut p, q) = grid(2, 2);
+    let (mut p, q) = Grid::new(2, 2).unit();
     p[4] = DVec2::new(1.5, 1.0);
     let fixed = (0..9).map(|v| v != 1).collect();
     let mesh = QuadMesh::new(p.clone(), q, Some(fixed)).unwrap();
@@ -136,25 +119,22 @@ fn boundary_vertex_slides_to_its_optimum_on_a_straight_edge() {
 
 /// A jittered nx x ny grid with its straight sides free to slide, some interior vertices
 /// fixed, and the jitter large enough to leave poor quads.
-fn jittered(nx: u32, ny: u32, seed: u64) -> QuadMesh {
-    let (mut p, q) = grid(nx, ny);
+fn jittered(nx: usize, ny: usize, seed: u64) -> QuadMesh {
+    let grid = Grid::new(nx, ny);
     let mut rng = Rng(seed);
-    let mut fixed = vec![false; p.len()];
-    for j in 0..=ny {
-        for i in 0..=nx {
-            let v = (j * (nx + 1) + i) as usize;
-            let (bx, by) = (i == 0 || i == nx, j == 0 || j == ny);
-            let (dx, dy) = (0.38 * rng.next(), 0.38 * rng.next());
-            match (bx, by) {
-                (false, false) => p[v] += DVec2::new(dx, dy),
-                (false, true) => p[v].x += dx,
-                (true, false) => p[v].y += dy,
-                (true, true) => {}
-            }
-            fixed[v] = !bx && !by && (i * 7 + j * 3) % 11 == 0;
+    let p = grid.points(|i, j| {
+        let mut p = DVec2::new(i as f64, j as f64);
+        let (dx, dy) = (0.38 * rng.next(), 0.38 * rng.next());
+        match (grid.on_vertical_side(i, j), grid.on_horizontal_side(i, j)) {
+            (false, false) => p += DVec2::new(dx, dy),
+            (false, true) => p.x += dx,
+            (true, false) => p.y += dy,
+            (true, true) => {}
         }
-    }
-    QuadMesh::new(p, q, Some(fixed)).unwrap()
+        p
+    });
+    let fixed = grid.per_vertex(|i, j| grid.is_interior(i, j) && (i * 7 + j * 3) % 11 == 0);
+    QuadMesh::new(p, grid.quads(), Some(fixed)).unwrap()
 }
 
 #[test]
@@ -271,7 +251,7 @@ fn a_zero_boundary_deviation_keeps_curved_boundaries_in_place() {
 fn a_tangled_star_never_inverts_a_valid_quad() {
     // One inverted quad (the centre pulled across an edge): the stage may raise it, but the
     // valid quads stay valid and the minimum does not fall.
-    let (mut p, q) = grid(3, 3);
+    let (mut p, q) = Grid::new(3, 3).unit();
     p[5] = DVec2::new(2.3, 1.2); // vertex (1, 1) pushed beyond its right neighbour's column
     let mesh = QuadMesh::new(p, q, None).unwrap();
     let before = quality(mesh.points(), mesh.quads());
@@ -328,17 +308,14 @@ fn cancelling_keeps_a_result_no_worse() {
 }
 
 /// An n x n grid of unit squares whose interior vertices are moved by up to `amount` per axis.
-fn jittered_grid(n: u32, amount: f64, seed: u64) -> QuadMesh {
-    let (mut p, q) = grid(n, n);
+fn jittered_grid(n: usize, amount: f64, seed: u64) -> QuadMesh {
+    let grid = Grid::square(n);
     let mut rng = Rng(seed);
-    let row = n as usize + 1;
-    for (v, p) in p.iter_mut().enumerate() {
-        let (i, j) = (v % row, v / row);
-        if (1..row - 1).contains(&i) && (1..row - 1).contains(&j) {
-            *p += DVec2::new(amount * rng.next(), amount * rng.next());
-        }
-    }
-    QuadMesh::new(p, q, None).unwrap()
+    let p = grid.points(|i, j| {
+        let p = DVec2::new(i as f64, j as f64);
+        if grid.is_interior(i, j) { p + DVec2::new(amount * rng.next(), amount * rng.next()) } else { p }
+    });
+    QuadMesh::new(p, grid.quads(), None).unwrap()
 }
 
 #[test]

@@ -4,6 +4,10 @@
 //! process-wide worker pool start from a known state. Linux only (`/proc`, `RLIMIT_AS`).
 #![cfg(target_os = "linux")]
 
+mod common;
+
+use common::grids::{Grid, flat};
+use quadopt::DVec2;
 use quadopt::ffi::*;
 use std::ffi::CStr;
 use std::ptr::{null, null_mut};
@@ -11,8 +15,7 @@ use std::time::{Duration, Instant};
 
 /// An `n` x `n` grid of unit squares with its interior vertices jittered (deterministically)
 /// by up to 0.3: coordinates (2 per vertex) and quads.
-fn jittered_grid(n: u32) -> (Vec<f64>, Vec<u32>) {
-    let mut coords = Vec::new();
+fn jittered_grid(n: usize) -> (Vec<f64>, Vec<u32>) {
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
     let mut jitter = || {
         state ^= state << 13;
@@ -20,21 +23,12 @@ fn jittered_grid(n: u32) -> (Vec<f64>, Vec<u32>) {
         state ^= state << 17;
         0.3 * ((state >> 11) as f64 / (1u64 << 52) as f64 - 1.0)
     };
-    for j in 0..=n {
-        for i in 0..=n {
-            let interior = i > 0 && i < n && j > 0 && j < n;
-            let (dx, dy) = if interior { (jitter(), jitter()) } else { (0.0, 0.0) };
-            coords.extend([f64::from(i) + dx, f64::from(j) + dy]);
-        }
-    }
-    let mut quads = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = j * (n + 1) + i;
-            quads.extend([a, a + 1, a + n + 2, a + n + 1]);
-        }
-    }
-    (coords, quads)
+    let grid = Grid::square(n);
+    let (points, quads) = grid.placed(|i, j| {
+        let (dx, dy) = if grid.is_interior(i, j) { (jitter(), jitter()) } else { (0.0, 0.0) };
+        DVec2::new(i as f64 + dx, j as f64 + dy)
+    });
+    flat(&points, &quads)
 }
 
 /// quadopt_optimize with the defaults on a copy of `coords`: the status and the result's bits.

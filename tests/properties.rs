@@ -22,6 +22,9 @@
 //! Case counts keep the file at about a minute in release on two cores; raise them with
 //! the `PROPTEST_CASES` environment variable for a longer search.
 
+mod common;
+
+use common::grids::Grid;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use quadopt::Features;
@@ -114,25 +117,9 @@ fn case() -> impl Strategy<Value = Case> {
 fn base_mesh(base: &Base) -> (Vec<DVec2>, Vec<[u32; 4]>) {
     match base {
         Base::Grid { nx, ny, sx, sy, angle, removed } => {
-            let (nx, ny) = (*nx, *ny);
-            let rot = DVec2::from_angle(*angle);
-            let mut p = Vec::new();
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    p.push(rot.rotate(DVec2::new(i as f64 * sx, j as f64 * sy)));
-                }
-            }
-            let mut q = Vec::new();
-            for j in 0..ny {
-                for i in 0..nx {
-                    if removed[(j * nx + i) % removed.len()] {
-                        continue;
-                    }
-                    let a = (j * (nx + 1) + i) as u32;
-                    q.push([a, a + 1, a + nx as u32 + 2, a + nx as u32 + 1]);
-                }
-            }
-            (p, q)
+            let (grid, rot) = (Grid::new(*nx, *ny), DVec2::from_angle(*angle));
+            let p = grid.points(|i, j| rot.rotate(DVec2::new(i as f64 * sx, j as f64 * sy)));
+            (p, grid.quads_without(|i, j| removed[(j * nx + i) % removed.len()]))
         }
         Base::Polygon { gaps, a, b, refine } => {
             let total: f64 = gaps.iter().sum();
@@ -917,14 +904,8 @@ fn saved_fuzz_files_read_and_optimize() {
 /// boundary mode and extreme but valid options.
 #[test]
 fn huge_coordinate_on_the_boundary_does_not_panic() {
-    let mut p = Vec::new();
-    for j in 0..2 {
-        for i in 0..11 {
-            p.push(DVec2::new(i as f64, j as f64));
-        }
-    }
+    let (mut p, q) = Grid::new(10, 1).unit();
     p[13] = DVec2::new(-1.0568409687981505e270, 5.431728992907e-312);
-    let q: Vec<[u32; 4]> = (0..10).map(|i| [i, i + 1, i + 12, i + 11]).collect();
     let mesh = QuadMesh::new(p, q, None).unwrap();
     assert_eq!(loop_lengths(&mesh), vec![f64::INFINITY]);
     let options = Options::DEFAULT
@@ -959,16 +940,8 @@ fn huge_coordinate_on_the_boundary_does_not_panic() {
 /// where it is.
 #[test]
 fn overflowing_target_leaves_the_vertex_in_place() {
-    let mut p = Vec::new();
-    for j in 0..3 {
-        for i in 0..4 {
-            p.push(DVec2::new(i as f64, j as f64));
-        }
-    }
+    let (mut p, q) = Grid::new(3, 2).unit();
     p[0] = DVec2::new(-8.161677500224396e298, 1.37978955024905e-309);
-    let q: Vec<[u32; 4]> = (0..2u32)
-        .flat_map(|j| (0..3u32).map(move |i| [j * 4 + i, j * 4 + i + 1, j * 4 + i + 5, j * 4 + i + 4]))
-        .collect();
     let mesh = QuadMesh::new(p, q, None).unwrap();
     for method in Method::ALL {
         for boundary in BoundaryMode::ALL {
@@ -1004,16 +977,8 @@ fn overflowing_target_leaves_the_vertex_in_place() {
 #[test]
 #[ignore = "output orientation is re-inferred from the geometry; see the doc comment"]
 fn remeasured_output_quality_matches_the_report() {
-    let mut p = Vec::new();
-    for j in 0..3 {
-        for i in 0..5 {
-            p.push(DVec2::new(i as f64, j as f64));
-        }
-    }
+    let (mut p, q) = Grid::new(4, 2).unit();
     p[0] = DVec2::new(1.0658546981484702e116, 1.83e-322);
-    let q: Vec<[u32; 4]> = (0..2u32)
-        .flat_map(|j| (0..4u32).map(move |i| [j * 5 + i, j * 5 + i + 1, j * 5 + i + 6, j * 5 + i + 5]))
-        .collect();
     let mesh = QuadMesh::new(p, q.clone(), None).unwrap();
     let mut out = mesh.clone();
     let r = optimize(&mut out, &Options::default()).unwrap();

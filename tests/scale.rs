@@ -22,6 +22,7 @@
 mod common;
 
 use common::Rng;
+use common::grids::Grid;
 use quadopt::ffi::{QuadoptQuality, QuadoptStatus, quadopt_quality};
 use quadopt::testing::scale_by_power_of_two;
 use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report, Topology};
@@ -35,42 +36,29 @@ const EXPONENTS: [i32; 8] = [-996, -700, -515, -1, 1, 515, 700, 996];
 
 /// An `n` by `n` grid of unit cells whose interior vertices are jittered by up to `amount`
 /// (boundary vertices too, along the boundary's normal, when `boundary` is set).
-fn jittered_grid(n: u32, amount: f64, boundary: bool, seed: u64) -> (Vec<DVec2>, Vec<[u32; 4]>) {
+fn jittered_grid(n: usize, amount: f64, boundary: bool, seed: u64) -> (Vec<DVec2>, Vec<[u32; 4]>) {
+    let grid = Grid::square(n);
     let mut rng = Rng(seed);
-    let mut p = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (i as f64, j as f64);
-            let (dx, dy) = (amount * rng.next(), amount * rng.next());
-            let interior = i > 0 && j > 0 && i < n && j < n;
-            let corner = (i == 0 || i == n) && (j == 0 || j == n);
-            p.push(if interior {
-                DVec2::new(x + dx, y + dy)
-            } else if boundary && !corner && (j == 0 || j == n) {
-                DVec2::new(x, y + 0.5 * dy)
-            } else if boundary && !corner {
-                DVec2::new(x + 0.5 * dx, y)
-            } else {
-                DVec2::new(x, y)
-            });
+    grid.placed(|i, j| {
+        let (x, y) = (i as f64, j as f64);
+        let (dx, dy) = (amount * rng.next(), amount * rng.next());
+        if grid.is_interior(i, j) {
+            DVec2::new(x + dx, y + dy)
+        } else if boundary && !grid.is_corner(i, j) && grid.on_horizontal_side(i, j) {
+            DVec2::new(x, y + 0.5 * dy)
+        } else if boundary && !grid.is_corner(i, j) {
+            DVec2::new(x + 0.5 * dx, y)
+        } else {
+            DVec2::new(x, y)
         }
-    }
-    let mut q = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = j * (n + 1) + i;
-            q.push([a, a + 1, a + n + 2, a + n + 1]);
-        }
-    }
-    (p, q)
+    })
 }
 
 /// A jittered grid with one interior vertex pushed across its neighbour: inverted quads.
 fn tangled() -> (Vec<DVec2>, Vec<[u32; 4]>) {
     let (mut p, q) = jittered_grid(6, 0.15, false, 7);
     // Vertex (3, 3) moved beyond (4, 3): the quads on its left fold over.
-    let v = 3 * 7 + 3;
-    p[v] = DVec2::new(4.3, 3.1);
+    p[Grid::square(6).index(3, 3)] = DVec2::new(4.3, 3.1);
     (p, q)
 }
 
@@ -84,8 +72,8 @@ fn meshes() -> Vec<TestMesh> {
     let (bp, bq) = jittered_grid(8, 0.25, true, 3);
     // Two interior vertices fixed in the boundary-jittered grid.
     let mut fixed = vec![false; bp.len()];
-    fixed[2 * 9 + 2] = true;
-    fixed[5 * 9 + 6] = true;
+    fixed[Grid::square(8).index(2, 2)] = true;
+    fixed[Grid::square(8).index(6, 5)] = true;
     vec![
         ("tangled", tp, tq, None),
         ("jittered grid", gp, gq, None),

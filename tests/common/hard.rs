@@ -4,40 +4,8 @@
 //! from a valid mesh by moving interior vertices only.
 
 use super::Rng;
+use super::grids::{interior_mask, on_coordinates};
 use quadopt::{DVec2, QuadMesh};
-
-/// Structured grid on the given x and y coordinates, without the quads `skip` rejects.
-fn grid(xs: &[f64], ys: &[f64], skip: impl Fn(usize, usize) -> bool) -> (Vec<DVec2>, Vec<[u32; 4]>) {
-    let nx = xs.len();
-    let mut p = Vec::new();
-    for &y in ys {
-        for &x in xs {
-            p.push(DVec2::new(x, y));
-        }
-    }
-    let mut q = Vec::new();
-    for j in 0..ys.len() - 1 {
-        for i in 0..nx - 1 {
-            if skip(i, j) {
-                continue;
-            }
-            let a = (j * nx + i) as u32;
-            q.push([a, a + 1, a + nx as u32 + 1, a + nx as u32]);
-        }
-    }
-    (p, q)
-}
-
-/// Interior vertices (used by four quads) of a quad list.
-fn interior(n: usize, quads: &[[u32; 4]]) -> Vec<bool> {
-    let mut count = vec![0; n];
-    for q in quads {
-        for &v in q {
-            count[v as usize] += 1;
-        }
-    }
-    count.iter().map(|&c| c == 4).collect()
-}
 
 fn jitter(p: &mut [DVec2], movable: &[bool], amount: DVec2, rng: &mut Rng) {
     for (x, &m) in p.iter_mut().zip(movable) {
@@ -54,8 +22,8 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     // Anisotropic graded grid: x spacing grows geometrically (ratio 1.25), cells 50:1 wide.
     let xs: Vec<f64> = (0..=16).map(|i| (1.25f64.powi(i) - 1.0) * 4.0).collect();
     let ys: Vec<f64> = (0..=12).map(|j| j as f64 * 0.08).collect();
-    let (mut p, q) = grid(&xs, &ys, |_, _| false);
-    let inner = interior(p.len(), &q);
+    let (mut p, q) = on_coordinates(&xs, &ys, |_, _| false);
+    let inner = interior_mask(p.len(), &q);
     for (k, x) in p.iter_mut().enumerate() {
         if inner[k] {
             let i = k % xs.len();
@@ -68,15 +36,15 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     // Boundary layer: rows graded 1e-3 .. 1 in y, jittered in x by a fraction of the width.
     let xs: Vec<f64> = (0..=14).map(|i| i as f64).collect();
     let ys: Vec<f64> = (0..=12).map(|j| if j == 0 { 0.0 } else { 1e-3 * 1.9f64.powi(j) }).collect();
-    let (mut p, q) = grid(&xs, &ys, |_, _| false);
-    let inner = interior(p.len(), &q);
+    let (mut p, q) = on_coordinates(&xs, &ys, |_, _| false);
+    let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::new(0.35, 0.0), &mut rng);
     out.push(("boundary layer", QuadMesh::new(p, q, None).unwrap()));
 
     // Folded over several layers: in a 14x14 grid the band of rows 3..=9, columns 4..=10, is
     // mirrored (row 3 goes to row 9 and back), so six layers of quads lie upside down.
     let xs: Vec<f64> = (0..=14).map(|i| i as f64).collect();
-    let (mut p, q) = grid(&xs, &xs, |_, _| false);
+    let (mut p, q) = on_coordinates(&xs, &xs, |_, _| false);
     for (k, x) in p.iter_mut().enumerate() {
         let (i, j) = (k % 15, k / 15);
         if (3..=9).contains(&j) && (4..=10).contains(&i) {
@@ -89,8 +57,8 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     // left edge (two boundary parts almost touching); interior jittered.
     let xs: Vec<f64> = (0..=20).map(|i| i as f64).collect();
     let ys: Vec<f64> = vec![0.0, 1.0, 2.0, 3.0, 3.995, 4.005, 5.0, 6.0, 7.0, 8.0];
-    let (mut p, q) = grid(&xs, &ys, |i, j| j == 4 && i < 14);
-    let inner = interior(p.len(), &q);
+    let (mut p, q) = on_coordinates(&xs, &ys, |i, j| j == 4 && i < 14);
+    let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::new(0.3, 0.0), &mut rng);
     out.push(("near-touching slit", QuadMesh::new(p, q, None).unwrap()));
 
@@ -102,8 +70,8 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
             || (18..24).contains(&i) && (8..12).contains(&j)
             || (10..14).contains(&i) && (20..26).contains(&j)
     };
-    let (mut p, q) = grid(&xs, &xs, hole);
-    let inner = interior(p.len(), &q);
+    let (mut p, q) = on_coordinates(&xs, &xs, hole);
+    let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::splat(0.62), &mut rng);
     out.push(("jittered plate, holes", QuadMesh::new(p, q, None).unwrap()));
     out

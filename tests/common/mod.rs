@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests. Each test crate uses only some of them.
 #![allow(dead_code)]
 
+pub mod grids;
 pub mod hard;
 pub mod samples;
 

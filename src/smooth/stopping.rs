@@ -4,6 +4,15 @@
 use super::options::{Options, StopRule};
 use crate::quality::QualityStats;
 
+/// What [`Stopper::after_sweep`] decided.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AfterSweep {
+    /// The rule is met: the run is done.
+    pub stop: bool,
+    /// |E_new - E_old| of the sweep (NaN after the first), for progress reports.
+    pub energy_change: f64,
+}
+
 /// Decides after each sweep whether the run is done.
 pub struct Stopper {
     rule: StopRule,
@@ -28,16 +37,15 @@ impl Stopper {
     }
 
     /// Records one sweep (the statistics after it, those of the iterate the run keeps, and the
-    /// energy measured during it) and returns whether to stop. Also returns the energy
-    /// change, for progress reports.
-    pub fn after_sweep(&mut self, stats: &QualityStats, kept: &QualityStats, energy: f64) -> (bool, f64) {
-        let change = (energy - self.energy_old).abs();
+    /// energy measured during it) and says whether to stop.
+    pub fn after_sweep(&mut self, stats: &QualityStats, kept: &QualityStats, energy: f64) -> AfterSweep {
+        let energy_change = (energy - self.energy_old).abs();
         self.energy_old = energy;
         let stop = match self.rule {
-            StopRule::Energy => change / self.per_vertex < self.tau,
+            StopRule::Energy => energy_change / self.per_vertex < self.tau,
             StopRule::Quality => self.quality.after_sweep(stats, kept),
         };
-        (stop, change)
+        AfterSweep { stop, energy_change }
     }
 
     /// Starts the quality rule from the statistics before the first sweep and the iterate
@@ -155,7 +163,7 @@ mod tests {
     fn stops_at(avg: impl Fn(usize) -> f64, cap: usize) -> Option<usize> {
         let mut s = Stopper::new(&quality(), 10);
         s.start(&stats(0, 0.5, avg(0)), &stats(0, 0.5, avg(0)));
-        (1..=cap).find(|&k| s.after_sweep(&stats(0, 0.5, avg(k)), &stats(0, 0.5, avg(k)), 1.0).0)
+        (1..=cap).find(|&k| s.after_sweep(&stats(0, 0.5, avg(k)), &stats(0, 0.5, avg(k)), 1.0).stop)
     }
 
     #[test]
@@ -202,14 +210,14 @@ mod tests {
         // One inverted quad repaired per sweep, nothing else changes.
         for k in 1..=40 {
             let q = stats(50 - k, -0.5, 0.5);
-            assert!(!s.after_sweep(&q, &q, 1.0).0, "sweep {k}");
+            assert!(!s.after_sweep(&q, &q, 1.0).stop, "sweep {k}");
         }
         // The minimum rising steadily by 1e-4 per sweep: a window gains 5e-4, forever.
         let mut s = Stopper::new(&quality(), 10);
         s.start(&stats(0, 0.1, 0.8), &stats(0, 0.1, 0.8));
         for k in 1..=100 {
             let q = stats(0, 0.1 + 1e-4 * k as f64, 0.8);
-            assert!(!s.after_sweep(&q, &q, 1.0).0, "sweep {k}");
+            assert!(!s.after_sweep(&q, &q, 1.0).stop, "sweep {k}");
         }
     }
 
@@ -221,14 +229,14 @@ mod tests {
         let kept = stats(0, 0.7, 0.9);
         let mut s = Stopper::new(&quality(), 10);
         s.start(&kept, &kept);
-        let stop = (1..=1000).find(|&k| s.after_sweep(&stats(0, 0.6, 0.9 + 1e-4 * k as f64), &kept, 1.0).0);
+        let stop = (1..=1000).find(|&k| s.after_sweep(&stats(0, 0.6, 0.9 + 1e-4 * k as f64), &kept, 1.0).stop);
         assert_eq!(stop, Some(StopRule::QUALITY_STALE_WINDOWS * StopRule::QUALITY_WINDOW));
         // The same iterates, kept: the steady gain goes on.
         let mut s = Stopper::new(&quality(), 10);
         s.start(&kept, &kept);
         for k in 1..=200 {
             let q = stats(0, 0.6, 0.9 + 1e-4 * k as f64);
-            assert!(!s.after_sweep(&q, &q, 1.0).0, "sweep {k}");
+            assert!(!s.after_sweep(&q, &q, 1.0).stop, "sweep {k}");
         }
     }
 
@@ -238,12 +246,12 @@ mod tests {
         let per_vertex = Options { tau: 1e-3, stop: StopRule::Energy, ..Options::default() };
         let mut s = Stopper::new(&per_vertex, 100);
         let q = stats(0, 0.5, 0.8);
-        assert!(!s.after_sweep(&q, &q, 1.0).0, "no change is known after the first sweep");
-        assert!(!s.after_sweep(&q, &q, 0.8).0, "0.2 / 100 >= 1e-3");
-        assert!(s.after_sweep(&q, &q, 0.75).0, "0.05 / 100 < 1e-3");
+        assert!(!s.after_sweep(&q, &q, 1.0).stop, "no change is known after the first sweep");
+        assert!(!s.after_sweep(&q, &q, 0.8).stop, "0.2 / 100 >= 1e-3");
+        assert!(s.after_sweep(&q, &q, 0.75).stop, "0.05 / 100 < 1e-3");
         let absolute = Options { tau_absolute: true, ..per_vertex };
         let mut s = Stopper::new(&absolute, 100);
         s.after_sweep(&q, &q, 1.0);
-        assert!(!s.after_sweep(&q, &q, 0.95).0, "0.05 >= 1e-3 absolute");
+        assert!(!s.after_sweep(&q, &q, 0.95).stop, "0.05 >= 1e-3 absolute");
     }
 }

@@ -194,13 +194,13 @@ impl RunContext<'_> {
                 best_params.copy_from_slice(&params);
             }
             let kept = if opts.keep_best { best_stats } else { stats };
-            let (stop, change) = stopper.after_sweep(&stats, &kept, energy);
+            let verdict = stopper.after_sweep(&stats, &kept, energy);
             if let Some(cb) = progress.as_mut() {
                 let p = Progress {
                     iteration: iterations,
                     max_iterations: opts.max_iterations,
                     energy,
-                    energy_change: change,
+                    energy_change: verdict.energy_change,
                     pass,
                     passes,
                 };
@@ -211,7 +211,7 @@ impl RunContext<'_> {
             }
             // Under the quality rule a sweep that moved nothing ends the run: every later sweep
             // would repeat it. (The energy rule is the paper's: tau = 0 runs to the cap.)
-            if stop || (!any_moved && opts.stop == StopRule::Quality) {
+            if verdict.stop || (!any_moved && opts.stop == StopRule::Quality) {
                 converged = true;
                 break;
             }

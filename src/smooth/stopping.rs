@@ -229,7 +229,8 @@ mod tests {
         let kept = stats(0, 0.7, 0.9);
         let mut s = Stopper::new(&quality(), 10);
         s.start(&kept, &kept);
-        let stop = (1..=1000).find(|&k| s.after_sweep(&stats(0, 0.6, 0.9 + 1e-4 * k as f64), &kept, 1.0).stop);
+        let stop =
+            (1..=1000).find(|&k| s.after_sweep(&stats(0, 0.6, 0.9 + 1e-4 * k as f64), &kept, 1.0).stop);
         assert_eq!(stop, Some(StopRule::QUALITY_STALE_WINDOWS * StopRule::QUALITY_WINDOW));
         // The same iterates, kept: the steady gain goes on.
         let mut s = Stopper::new(&quality(), 10);

@@ -371,7 +371,7 @@ fn chain_wedges(wedges: &[Wedge], scratch: &mut ChainScratch) -> VertexKind {
     }
 }
 
-/// Follows boundary edges into closed loops. A boundary edge runs v -> boundary_next[v]; a
+/// Follows boundary edges into closed loops. A boundary edge runs v -> `boundary_next[v]`; a
 /// non-manifold vertex has several outgoing boundary edges, taken in turn. `slot` is per-vertex
 /// scratch holding [`NONE`] on entry and on return.
 fn trace_loops(

@@ -216,7 +216,7 @@ fn shuffled(n: usize) -> Vec<u32> {
     order
 }
 
-/// The normalized program of [`max_min`]: maximize t subject to t <= a . u + b for every row,
+/// The normalized program of `max_min`: maximize t subject to t <= a . u + b for every row,
 /// t <= t_max and |u| <= w componentwise. Ties are broken towards larger x, then larger y.
 struct Program<'a> {
     rows: Vec<Row>,

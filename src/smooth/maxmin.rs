@@ -798,7 +798,7 @@ fn interior_move(
         (_, Objective::Average { .. }) if settings.average_by_smoothing => {
             // The embedded-polygon target is where the sweeps put the vertex for the average:
             // the longest step back towards it that keeps the star above the floor.
-            let (target, _) = super::embedded_polygon::target(points, v, topo.ring(v));
+            let target = super::embedded_polygon::target(points, v, topo.ring(v)).point;
             let mut step = target - p;
             if step.is_finite() {
                 for _ in 0..=AVERAGE_HALVINGS {

@@ -517,17 +517,17 @@ impl RunContext<'_> {
         if slide.position == p {
             return pick(snap, BoundaryMode::Snap, None);
         }
-        let q_slide = guard::star_min_avg(points, self.quads, self.topo, v, slide.position);
-        let q_snap = guard::star_min_avg(points, self.quads, self.topo, v, snap.position);
-        let snap_wins = if q_snap.0.min(q_slide.0) >= self.floor {
-            q_snap.1 > q_slide.1 + AUTO_TIE
+        let q_slide = guard::star_quality(points, self.quads, self.topo, v, slide.position);
+        let q_snap = guard::star_quality(points, self.quads, self.topo, v, snap.position);
+        let snap_wins = if q_snap.min.min(q_slide.min) >= self.floor {
+            q_snap.avg > q_slide.avg + AUTO_TIE
         } else {
-            q_snap.0 > q_slide.0 + AUTO_TIE
+            q_snap.min > q_slide.min + AUTO_TIE
         };
         if snap_wins {
-            pick(snap, BoundaryMode::Snap, Some(q_snap.0))
+            pick(snap, BoundaryMode::Snap, Some(q_snap.min))
         } else {
-            pick(slide, BoundaryMode::Slide, Some(q_slide.0))
+            pick(slide, BoundaryMode::Slide, Some(q_slide.min))
         }
     }
 }

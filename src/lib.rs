@@ -46,6 +46,7 @@ pub(crate) mod normalization;
 #[allow(unsafe_code)]
 mod pool;
 pub mod quality;
+pub(crate) mod quiet_threads;
 mod renumbering;
 pub(crate) mod smooth;
 pub mod synthetic;

@@ -17,8 +17,8 @@
 //! Positions of moving boundary vertices are always evaluated from their arclength on the
 //! original polyline, so they stay on it up to roundoff.
 
-use super::BoundaryMode;
 use super::embedded_polygon::{bisect, bisecting_rotation};
+use super::options::BoundaryMode;
 use crate::features::Features;
 use crate::topology::Topology;
 use glam::DVec2;

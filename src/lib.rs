@@ -45,7 +45,9 @@ pub(crate) mod normalization;
 /// The process's worker pool (its `unsafe`: a published pool pointer that is never freed).
 #[allow(unsafe_code)]
 mod pool;
+pub(crate) mod power_of_two;
 pub mod quality;
+pub(crate) mod quiet_threads;
 mod renumbering;
 pub(crate) mod smooth;
 pub mod synthetic;
@@ -71,7 +73,7 @@ pub use topology::{Topology, VertexKind};
 /// release.
 #[doc(hidden)]
 pub mod testing {
-    pub use crate::normalization::scale_by_power_of_two;
+    pub use crate::power_of_two::scale_by_power_of_two;
     pub use crate::smooth::boundary::BoundaryGeometry;
     pub use crate::smooth::maxmin::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
 }

@@ -251,7 +251,7 @@ fn sorted_edges(quads: &[[u32; 4]]) -> Result<(Vec<EdgeRecord>, usize)> {
 /// Signed area of a quad whose corners are scaled by `2^scale` (exact, so the sign is that of
 /// the true area; the scale keeps the products from overflowing or underflowing).
 fn signed_area(points: &[DVec2], q: &[u32; 4], scale: i32) -> f64 {
-    let p = crate::quality::corners(points, q).map(|p| crate::normalization::scale_point(p, scale));
+    let p = crate::quality::corners(points, q).map(|p| crate::power_of_two::scale_point(p, scale));
     // Shoelace formula; a quad's doubled area is the cross product of its diagonals.
     0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
 }
@@ -336,7 +336,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
             .iter()
             .flat_map(|&q| quads[q as usize])
             .fold(0.0f64, |m, v| m.max(points[v as usize].abs().max_element()));
-        let scale = if largest > 0.0 { -crate::normalization::binary_exponent(largest) } else { 0 };
+        let scale = if largest > 0.0 { -crate::power_of_two::binary_exponent(largest) } else { 0 };
         let mut area = 0.0;
         for &q in &component {
             let q = q as usize;

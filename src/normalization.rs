@@ -27,38 +27,10 @@
 
 use crate::alloc::try_copy;
 use crate::error::Result;
+use crate::power_of_two::{binary_exponent, pow2, scale_by_power_of_two};
 use crate::quality::{corners, sign_class};
 use glam::DVec2;
 use rayon::prelude::*;
-
-/// `2^e` for `e` in the normal exponent range [-1022, 1023].
-#[inline]
-fn pow2(e: i32) -> f64 {
-    debug_assert!((-1022..=1023).contains(&e));
-    f64::from_bits(((e + 1023) as u64) << 52)
-}
-
-/// `x * 2^e`, exact whenever the result is a normal number (or `x` is subnormal and `e > 0`):
-/// the scaling is split in two steps so neither factor over- or underflows, and the
-/// intermediate lies between `x` and the result.
-#[inline]
-pub fn scale_by_power_of_two(x: f64, e: i32) -> f64 {
-    let e = e.clamp(-2200, 2200);
-    let half = e / 2;
-    x * pow2(half.clamp(-1022, 1023)) * pow2((e - half).clamp(-1022, 1023))
-}
-
-/// The exponent `k` with `2^k <= x < 2^(k+1)`, for a finite `x > 0` (subnormals included).
-#[inline]
-pub fn binary_exponent(x: f64) -> i32 {
-    debug_assert!(x > 0.0 && x.is_finite());
-    let biased = ((x.to_bits() >> 52) & 0x7ff) as i32;
-    if biased == 0 {
-        // Subnormal: bring it into the normal range first (exact).
-        return binary_exponent(x * pow2(64)) - 64;
-    }
-    biased - 1023
-}
 
 /// The map between a mesh's coordinates and the normalized ones the optimizer works on:
 /// `normalized = round_grid(((p - origin) * 2^-exponent) / unit)`.
@@ -368,37 +340,10 @@ fn shortest_edge(quads: &[[u32; 4]], at: impl Fn(u32) -> Option<DVec2>) -> f64 {
     if shortest.is_finite() { shortest } else { 0.0 }
 }
 
-/// The exponent `e` that scales the corners of `q` by `2^-e` so the largest absolute
-/// coordinate lies in [1, 2) (0 for four corners at the origin).
-#[inline]
-pub fn unit_exponent(q: &[DVec2]) -> i32 {
-    let m = q.iter().fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
-    if m > 0.0 { binary_exponent(m) } else { 0 }
-}
-
-/// `p * 2^e`, component-wise (see [`scale_by_power_of_two`]).
-#[inline]
-pub fn scale_point(p: DVec2, e: i32) -> DVec2 {
-    DVec2::new(scale_by_power_of_two(p.x, e), scale_by_power_of_two(p.y, e))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn power_of_two_scaling_is_exact_over_the_whole_range() {
-        assert_eq!(scale_by_power_of_two(3.0, 4), 48.0);
-        assert_eq!(scale_by_power_of_two(f64::MAX, -1023), f64::MAX / pow2(1023));
-        assert_eq!(scale_by_power_of_two(scale_by_power_of_two(1.5, -1060), 1060), 1.5);
-        assert_eq!(scale_by_power_of_two(f64::MIN_POSITIVE, 1022), 1.0);
-        assert_eq!(binary_exponent(1.0), 0);
-        assert_eq!(binary_exponent(0.75), -1);
-        assert_eq!(binary_exponent(f64::MAX), 1023);
-        assert_eq!(binary_exponent(f64::MIN_POSITIVE), -1022);
-        assert_eq!(binary_exponent(f64::from_bits(1)), -1074);
-        assert_eq!(binary_exponent(f64::from_bits(3)), -1073);
-    }
+    use crate::power_of_two::scale_point;
 
     fn square(scale: f64, offset: DVec2) -> (Vec<DVec2>, Vec<[u32; 4]>) {
         let p = [(0., 0.), (3., 0.), (3., 2.), (0., 2.)].map(|(x, y)| DVec2::new(x, y) * scale + offset);

@@ -20,7 +20,7 @@
 //!   run's workers to reach a parallel loop's join, at most about one sweep.
 //!
 //! Worker threads run only library code, so they are marked as inside the library for the
-//! quiet panic hook (see `crate::ffi`'s `quiet` module).
+//! C ABI's quiet panic hook (`crate::quiet_threads`).
 
 use rayon::{ThreadBuilder, ThreadPool, ThreadPoolBuilder};
 use std::sync::atomic::{AtomicPtr, Ordering};
@@ -250,7 +250,7 @@ mod before_fork {
 
 /// The body of every worker thread.
 fn run_worker(thread: ThreadBuilder) {
-    crate::ffi::quiet::mark_worker_thread();
+    crate::quiet_threads::mark_worker_thread();
     thread.run();
 }
 

@@ -7,7 +7,7 @@
 //! Verdict's value for every counter-clockwise quad that is not folded; a corner turning the
 //! wrong way makes the quad inverted (negative) even when the quad is convex.
 
-use crate::normalization::{scale_point, unit_exponent};
+use crate::power_of_two::{scale_point, unit_exponent};
 use glam::DVec2;
 
 /// Verdict (VTK 9.x) treats an edge as degenerate (quad value 0) when it is shorter than

@@ -4,6 +4,7 @@
 
 use crate::alloc::try_with_capacity;
 use crate::mesh::QuadMesh;
+use crate::quiet_threads;
 use glam::DVec2;
 use std::panic::{self, AssertUnwindSafe};
 
@@ -24,7 +25,7 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 /// the thread-local last error and turns the outcome into a status.
 pub(super) fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) -> QuadoptStatus {
     quiet::install_hook();
-    let inside = quiet::enter(true);
+    let inside = quiet_threads::enter(true);
     let outcome = panic::catch_unwind(AssertUnwindSafe(body));
     drop(inside);
     match outcome {
@@ -46,7 +47,7 @@ pub(super) fn boundary(name: &str, body: impl FnOnce() -> Result<(), FfiError>) 
 /// Panic boundary for the functions without a status: a panic returns `fallback`.
 pub(super) fn boundary_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
     quiet::install_hook();
-    let _inside = quiet::enter(true);
+    let _inside = quiet_threads::enter(true);
     panic::catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
 }
 

@@ -54,8 +54,9 @@
 //! it out just as well, but would duplicate the library build (a second cdylib/staticlib,
 //! its own features and profile) and the CMake integration (which builds and links this
 //! crate's libraries) for no gain to any user, and it would need internals made public that
-//! no Rust caller should see: the worker pool the C calls run on (`pool`, with its
-//! quiet-panic marker) and the fallible allocation helper (`alloc`).
+//! no Rust caller should see: the worker pool the C calls run on (`pool`), the quiet-panic
+//! marker of the threads running library code (`quiet_threads`) and the fallible allocation
+//! helper (`alloc`).
 
 // In the header's order (cbindgen writes the functions in the order it meets them); each
 // declaration is its own group, so that rustfmt keeps the order.
@@ -73,7 +74,7 @@ mod handle;
 
 mod version;
 
-pub(crate) mod quiet;
+mod quiet;
 
 #[cfg(test)]
 mod test_support;

@@ -7,12 +7,12 @@ use crate::error::Error;
 use crate::mesh::QuadMesh;
 use crate::pool;
 use crate::quality::QualityStats;
+use crate::quiet_threads;
 use crate::smooth::{Optimizer, Progress, Report};
 use std::mem::size_of;
 
 use super::boundary::{boundary, check_bytes, read_mesh, require_non_null, write_points};
 use super::options::{QuadoptOptions, QuadoptProgress, convert_options, read_options};
-use super::quiet;
 use super::report::{QuadoptQuality, QuadoptReport, quality_of, report_of, report_size, write_report};
 use super::status::{FfiError, QuadoptStatus};
 
@@ -73,7 +73,7 @@ pub(super) fn run(
         let Some(f) = callback else { return true };
         last = Some(cp);
         // A panic of the caller's own Rust code (if any) is not ours to silence.
-        let _outside = quiet::enter(false);
+        let _outside = quiet_threads::enter(false);
         // SAFETY: the caller guarantees that a non-NULL `progress` is a valid function of this
         // signature; `cp` lives for the duration of the call.
         unsafe { f(&cp, user_data) }

@@ -21,7 +21,7 @@
 use super::{IoError, MeshData};
 use crate::error::Error;
 use crate::mesh::QuadMesh;
-use crate::normalization::{binary_exponent, scale_by_power_of_two};
+use crate::power_of_two::{binary_exponent, scale_by_power_of_two};
 use glam::{DVec2, DVec3};
 
 /// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the

@@ -17,9 +17,8 @@
 //! Positions of moving boundary vertices are always evaluated from their arclength on the
 //! original polyline, so they stay on it up to roundoff.
 
-use super::BoundaryMode;
 use super::embedded_polygon::{bisect, bisecting_rotation};
-use super::fidelity::chord_deviation;
+use super::options::BoundaryMode;
 use crate::features::Features;
 use crate::topology::Topology;
 use glam::DVec2;
@@ -119,7 +118,7 @@ impl BoundaryGeometry {
 
     /// Calls `f` with every original vertex of loop `l` whose arclength lies strictly between
     /// the unwrapped arclengths `s0 < s1` (at most one turn).
-    pub fn for_each_vertex_between(&self, l: usize, s0: f64, s1: f64, mut f: impl FnMut(DVec2)) {
+    fn for_each_vertex_between(&self, l: usize, s0: f64, s1: f64, mut f: impl FnMut(DVec2)) {
         let (a, b) = self.loop_slots(l);
         let len = self.loop_length[l];
         let count = b - a;
@@ -230,6 +229,74 @@ impl BoundaryGeometry {
         }
         best.1
     }
+
+    /// How far the chord of loop `l` from arclength `s0` to `s1` (unwrapped, s0 <= s1) is
+    /// from the stretch of the original polyline it replaces: the original vertices in
+    /// between against the chord, and sample points of the chord against that stretch.
+    pub fn chord_deviation(&self, l: usize, s0: f64, s1: f64) -> ChordDeviation {
+        let (a, b) = (self.eval(l, s0), self.eval(l, s1));
+        // The original polyline between s0 and s1: its vertices strictly inside, plus the ends.
+        let mut stretch: [DVec2; 34] = [DVec2::ZERO; 34];
+        let mut count = 0;
+        stretch[count] = a;
+        count += 1;
+        let mut overflow = false;
+        self.for_each_vertex_between(l, s0, s1, |p| {
+            if count < stretch.len() - 1 {
+                stretch[count] = p;
+                count += 1;
+            } else {
+                overflow = true;
+            }
+        });
+        stretch[count] = b;
+        count += 1;
+        let stretch = &stretch[..count];
+        let original_to_new = stretch.iter().map(|&p| point_segment_distance(p, a, b)).fold(0.0, f64::max);
+        let mut new_to_original: f64 = 0.0;
+        if stretch.len() > 2 || overflow {
+            for k in 1..CHORD_SAMPLES {
+                let q = a + (b - a) * (k as f64 / CHORD_SAMPLES as f64);
+                let d = stretch
+                    .windows(2)
+                    .map(|w| point_segment_distance(q, w[0], w[1]))
+                    .fold(f64::INFINITY, f64::min);
+                new_to_original = new_to_original.max(d);
+            }
+        }
+        ChordDeviation { new_to_original, original_to_new }
+    }
+}
+
+/// Sample points per chord for the new -> original direction of
+/// [`BoundaryGeometry::chord_deviation`].
+const CHORD_SAMPLES: usize = 8;
+
+/// How far a new boundary edge (a chord between two consecutive boundary vertices) is from
+/// the stretch of the original polyline it replaces, one way and the other; both are upper
+/// bounds of the one-sided Hausdorff distances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChordDeviation {
+    /// The largest distance of the chord's sample points from the original stretch.
+    pub new_to_original: f64,
+    /// The largest distance of the original stretch's vertices (its ends included) from the
+    /// chord.
+    pub original_to_new: f64,
+}
+
+impl ChordDeviation {
+    /// The larger of the two directions: the chord's deviation for a shape tolerance.
+    pub fn largest(self) -> f64 {
+        self.new_to_original.max(self.original_to_new)
+    }
+}
+
+/// Distance from `p` to segment `a`-`b`.
+fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let t =
+        if d.length_squared() > 0.0 { ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    (a + d * t - p).length()
 }
 
 /// A root of `f` in [a, b] given f(a) > 0 > f(b), by the Illinois variant of regula falsi:
@@ -363,8 +430,8 @@ pub fn update(
         // the original stretch they replace; otherwise shorten the step.
         let within = |t: f64| {
             [(s_prev, t), (t, s_next)].iter().all(|&(a, b)| {
-                let (n2o, o2n) = chord_deviation(geometry, l, a, b);
-                n2o.max(o2n) <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
+                geometry.chord_deviation(l, a, b).largest()
+                    <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
             })
         };
         let mut step = s_new - s_cur;
@@ -385,6 +452,13 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn point_segment_distances() {
+        let (a, b) = (DVec2::ZERO, DVec2::new(2.0, 0.0));
+        assert_eq!(point_segment_distance(DVec2::new(1.0, 0.5), a, b), 0.5);
+        assert_eq!(point_segment_distance(DVec2::new(3.0, 0.0), a, b), 1.0);
+    }
 
     #[test]
     fn bracketed_root_finds_the_sign_change() {

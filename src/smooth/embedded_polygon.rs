@@ -133,15 +133,26 @@ pub fn rotate_about(v: DVec2, p: DVec2, theta: f64) -> DVec2 {
     p + DVec2::from_angle(theta).rotate(v - p)
 }
 
+/// Where an interior vertex's method sends it, with its energy where it is now.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// The target position: the weighted mean of the bisector candidates (Eqs. 4-8 with
+    /// lambda = 1); the caller takes the lambda step towards it.
+    pub point: DVec2,
+    /// The vertex's torsion-spring energy (Eq. 1 with K = 1) at the current positions, before
+    /// the move: the sum of 1/2 theta_i^2 over the corners of its embedded polygon.
+    pub energy: f64,
+}
+
 /// The weighted bisector position of interior vertex `v` (Eqs. 4-8 with lambda = 1) and its
 /// torsion energy (Eq. 1 with K = 1) at the current positions.
-pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
+pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> Target {
     let n = ring.len();
     let p = points[v];
     // Valence is small (typically 3-6): fixed-size scratch, no allocation.
     const MAX: usize = 32;
     if !(2..=MAX).contains(&n) {
-        return (p, 0.0);
+        return Target { point: p, energy: 0.0 };
     }
     let mut cand = [DVec2::ZERO; MAX];
     let mut theta = [f64::NAN; MAX];
@@ -179,7 +190,7 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
         }
     }
     if sum_abs == 0.0 {
-        return (p, energy);
+        return Target { point: p, energy };
     }
     let (mut acc, mut wsum) = (DVec2::ZERO, 0.0);
     for i in 0..n {
@@ -194,9 +205,9 @@ pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> (DVec2, f64) {
     if wsum <= f64::EPSILON {
         let count = theta[..n].iter().filter(|t| !t.is_nan()).count() as f64;
         let mean = (0..n).filter(|&i| !theta[i].is_nan()).map(|i| cand[i]).sum::<DVec2>() / count;
-        return (mean, energy);
+        return Target { point: mean, energy };
     }
-    (acc / wsum, energy)
+    Target { point: acc / wsum, energy }
 }
 
 /// Vertices whose targets [`targets_of_four`] computes together.
@@ -213,7 +224,7 @@ pub fn targets_of_four(
     points: &[DVec2],
     vertices: [usize; BATCH],
     rings: [&[u32; 4]; BATCH],
-) -> [(DVec2, f64); BATCH] {
+) -> [Target; BATCH] {
     const B: usize = BATCH;
     // Corner l of vertex j is at (x[l][j], y[l][j]); edge l runs from corner l to corner l + 1.
     let (mut px, mut py) = ([0.0; B], [0.0; B]);
@@ -281,7 +292,7 @@ pub fn targets_of_four(
     std::array::from_fn(|j| {
         // A NaN (a degenerate corner) fails both comparisons.
         if sum_abs[j] > 0.0 && wsum[j] > f64::EPSILON {
-            (DVec2::new(acc_x[j] / wsum[j], acc_y[j] / wsum[j]), energy[j])
+            Target { point: DVec2::new(acc_x[j] / wsum[j], acc_y[j] / wsum[j]), energy: energy[j] }
         } else {
             target(points, vertices[j], rings[j])
         }
@@ -384,8 +395,8 @@ mod tests {
                 (0..BATCH).map(|j| std::array::from_fn(|k| (5 * j + 1 + k) as u32)).collect();
             let together = targets_of_four(&points, vertices, std::array::from_fn(|j| &rings[j]));
             for j in 0..BATCH {
-                let (t, e) = target(&points, vertices[j], &rings[j]);
-                let (u, f) = together[j];
+                let Target { point: t, energy: e } = target(&points, vertices[j], &rings[j]);
+                let Target { point: u, energy: f } = together[j];
                 assert_eq!(
                     (t.x.to_bits(), t.y.to_bits(), e.to_bits()),
                     (u.x.to_bits(), u.y.to_bits(), f.to_bits())
@@ -400,7 +411,7 @@ mod tests {
         for k in 0..5 {
             points.push(DVec2::from_angle(k as f64 * TAU / 5.0));
         }
-        let (t, e) = target(&points, 0, &[1, 2, 3, 4, 5]);
+        let Target { point: t, energy: e } = target(&points, 0, &[1, 2, 3, 4, 5]);
         assert!(t.length() < 1e-14 && e < 1e-28);
     }
 
@@ -410,7 +421,7 @@ mod tests {
         for k in 0..4 {
             points.push(DVec2::from_angle(k as f64 * TAU / 4.0));
         }
-        let (t, e) = target(&points, 0, &[1, 2, 3, 4]);
+        let Target { point: t, energy: e } = target(&points, 0, &[1, 2, 3, 4]);
         assert!(t.length() < points[0].length());
         assert!(e > 0.0);
     }
@@ -446,7 +457,7 @@ mod tests {
         let w: Vec<f64> = thetas.iter().map(|t| 1.0 - t.abs() / total).collect();
         let expected = (0..n).map(|i| w[i] * cands[i]).sum::<DVec2>() / w.iter().sum::<f64>();
         let energy: f64 = thetas.iter().map(|t| 0.5 * t * t).sum();
-        let (got, e) = target(&points, 0, &[1, 2, 3, 4]);
+        let Target { point: got, energy: e } = target(&points, 0, &[1, 2, 3, 4]);
         assert!((got - expected).length() < 1e-14, "{got} vs {expected}");
         assert!((e - energy).abs() < 1e-14, "{e} vs {energy}");
     }

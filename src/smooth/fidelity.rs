@@ -3,60 +3,13 @@
 //! Moving boundary vertices always lie on the original polyline, so the boundary can change
 //! only where a new edge (a chord between two consecutive boundary vertices) cuts across the
 //! original polyline between them. Each chord is compared with the stretch of the original
-//! polyline it replaces: the original vertices in between against the chord (original ->
-//! new) and sample points of the chord against that stretch (new -> original). Restricting
-//! the comparison to the corresponding stretch can only overestimate distances, so the
-//! figures are upper bounds of the true one-sided and symmetric Hausdorff distances.
+//! polyline it replaces ([`BoundaryGeometry::chord_deviation`]): the original vertices in
+//! between against the chord (original -> new) and sample points of the chord against that
+//! stretch (new -> original). Restricting the comparison to the corresponding stretch can
+//! only overestimate distances, so the figures are upper bounds of the true one-sided and
+//! symmetric Hausdorff distances.
 
 use super::boundary::BoundaryGeometry;
-use glam::DVec2;
-
-/// Sample points per chord for the new -> original direction.
-const CHORD_SAMPLES: usize = 8;
-
-/// Distance from `p` to segment `a`-`b`.
-pub fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let t =
-        if d.length_squared() > 0.0 { ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
-    (a + d * t - p).length()
-}
-
-/// Deviations of one chord of loop `l`, from arclength `s0` to `s1` (unwrapped, s0 <= s1):
-/// (new -> original, original -> new).
-pub fn chord_deviation(g: &BoundaryGeometry, l: usize, s0: f64, s1: f64) -> (f64, f64) {
-    let (a, b) = (g.eval(l, s0), g.eval(l, s1));
-    // The original polyline between s0 and s1: its vertices strictly inside, plus the ends.
-    let mut stretch: [DVec2; 34] = [DVec2::ZERO; 34];
-    let mut count = 0;
-    stretch[count] = a;
-    count += 1;
-    let mut overflow = false;
-    g.for_each_vertex_between(l, s0, s1, |p| {
-        if count < stretch.len() - 1 {
-            stretch[count] = p;
-            count += 1;
-        } else {
-            overflow = true;
-        }
-    });
-    stretch[count] = b;
-    count += 1;
-    let stretch = &stretch[..count];
-    let original_to_new = stretch.iter().map(|&p| point_segment_distance(p, a, b)).fold(0.0, f64::max);
-    let mut new_to_original: f64 = 0.0;
-    if stretch.len() > 2 || overflow {
-        for k in 1..CHORD_SAMPLES {
-            let q = a + (b - a) * (k as f64 / CHORD_SAMPLES as f64);
-            let d = stretch
-                .windows(2)
-                .map(|w| point_segment_distance(q, w[0], w[1]))
-                .fold(f64::INFINITY, f64::min);
-            new_to_original = new_to_original.max(d);
-        }
-    }
-    (new_to_original, original_to_new)
-}
 
 /// Boundary fidelity of a result.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -89,9 +42,9 @@ pub fn measure(g: &BoundaryGeometry, params: &[f64], mean_edge: f64) -> Boundary
             while s1 <= s0 {
                 s1 += len;
             }
-            let (n2o, o2n) = chord_deviation(g, l, s0, s1);
-            dev = dev.max(n2o);
-            haus = haus.max(n2o).max(o2n);
+            let d = g.chord_deviation(l, s0, s1);
+            dev = dev.max(d.new_to_original);
+            haus = haus.max(d.new_to_original).max(d.original_to_new);
         }
     }
     let rel = |x: f64| if mean_edge > 0.0 { x / mean_edge } else { 0.0 };
@@ -100,17 +53,5 @@ pub fn measure(g: &BoundaryGeometry, params: &[f64], mean_edge: f64) -> Boundary
         hausdorff: haus,
         max_deviation_relative: rel(dev),
         hausdorff_relative: rel(haus),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn point_segment_distances() {
-        let (a, b) = (DVec2::ZERO, DVec2::new(2.0, 0.0));
-        assert_eq!(point_segment_distance(DVec2::new(1.0, 0.5), a, b), 0.5);
-        assert_eq!(point_segment_distance(DVec2::new(3.0, 0.0), a, b), 1.0);
     }
 }

@@ -53,21 +53,30 @@ pub fn star_at_least(
         && f64::INFINITY >= floor
 }
 
-/// Minimum and average scaled Jacobian of the quads around `v` with `v` placed at `at`.
-pub fn star_min_avg(
+/// The quality of a vertex's star (the quads around it) at one position of the vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StarQuality {
+    /// The smallest scaled Jacobian of the star's quads (infinity for a vertex in no quad).
+    pub min: f64,
+    /// The mean scaled Jacobian of the star's quads (0 for a vertex in no quad).
+    pub avg: f64,
+}
+
+/// The [`StarQuality`] of the quads around `v` with `v` placed at `at`.
+pub fn star_quality(
     points: &[DVec2],
     quads: &[[u32; 4]],
     topo: &Topology,
     v: usize,
     at: DVec2,
-) -> (f64, f64) {
+) -> StarQuality {
     let (mut min, mut sum) = (f64::INFINITY, 0.0);
     for c in star_quads(points, quads, topo, v, at) {
         let sj = scaled_jacobian(&c);
         min = min.min(sj);
         sum += sj;
     }
-    (min, sum / topo.vertex_quads(v).len().max(1) as f64)
+    StarQuality { min, avg: sum / topo.vertex_quads(v).len().max(1) as f64 }
 }
 
 /// Absolute margin of [`quad_slack`] for the rounding of the scaled Jacobians it compares

@@ -40,7 +40,6 @@
 //! search would fail again), so the late rounds cost little.
 
 use super::boundary::BoundaryGeometry;
-use super::fidelity::chord_deviation;
 use crate::features::Features;
 use crate::quality::{QualityStats, corners, scaled_jacobian};
 use crate::topology::Topology;
@@ -798,7 +797,7 @@ fn interior_move(
         (_, Objective::Average { .. }) if settings.average_by_smoothing => {
             // The embedded-polygon target is where the sweeps put the vertex for the average:
             // the longest step back towards it that keeps the star above the floor.
-            let (target, _) = super::embedded_polygon::target(points, v, topo.ring(v));
+            let target = super::embedded_polygon::target(points, v, topo.ring(v)).point;
             let mut step = target - p;
             if step.is_finite() {
                 for _ in 0..=AVERAGE_HALVINGS {
@@ -863,8 +862,8 @@ fn boundary_move(
     let within_tolerance = |t: f64| {
         settings.max_boundary_deviation.is_none_or(|tol| {
             [(s_prev, t), (t, s_next)].iter().all(|&(a, b)| {
-                let (n2o, o2n) = chord_deviation(geometry, l, a, b);
-                n2o.max(o2n) <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
+                geometry.chord_deviation(l, a, b).largest()
+                    <= tol * (geometry.eval(l, b) - geometry.eval(l, a)).length()
             })
         })
     };

@@ -1,7 +1,7 @@
 //! What a run reports: progress after every sweep, and the final report.
 
-use super::BoundaryMode;
 use super::fidelity::BoundaryFidelity;
+use super::options::BoundaryMode;
 use super::untangle::TangledQuad;
 use crate::quality::QualityStats;
 

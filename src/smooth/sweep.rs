@@ -7,6 +7,7 @@
 //! turned off. A pass has one boundary mode per loop; [`super::auto`] chooses them.
 
 use super::boundary::{self, BoundaryGeometry, BoundaryMove};
+use super::embedded_polygon::Target;
 use super::maxmin::{self, MaxMinSettings};
 use super::options::{BoundaryMode, Method, Options, StopRule};
 use super::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves, improves_with_tie, stats_of};
@@ -383,7 +384,7 @@ impl RunContext<'_> {
         v: usize,
         loop_modes: &[BoundaryMode],
         since: Option<Since>,
-        target: Option<(DVec2, f64)>,
+        target: Option<Target>,
     ) -> Update {
         let mut update = if self.features.is_boundary(v) {
             self.boundary_update(points, params, v, loop_modes, since)
@@ -402,23 +403,20 @@ impl RunContext<'_> {
         points: &[DVec2],
         v: usize,
         since: Option<Since>,
-        target: Option<(DVec2, f64)>,
+        target: Option<Target>,
     ) -> Update {
         let opts = self.options;
         let ring = self.topo.ring(v);
-        let (target, energy) = match (target, opts.method) {
+        let with_energy = |point| Target { point, energy: energy::vertex_energy(points, v, ring) };
+        let Target { point: target, energy } = match (target, opts.method) {
             (Some(computed), _) => computed,
             (None, Method::EmbeddedPolygon) => embedded_polygon::target(points, v, ring),
-            (None, Method::Laplacian) => {
-                (laplacian::uniform_target(points, ring), energy::vertex_energy(points, v, ring))
-            }
-            (None, Method::Cotangent) => {
-                (laplacian::cotangent_target(points, v, ring), energy::vertex_energy(points, v, ring))
-            }
+            (None, Method::Laplacian) => with_energy(laplacian::uniform_target(points, ring)),
+            (None, Method::Cotangent) => with_energy(laplacian::cotangent_target(points, v, ring)),
             (None, Method::AngleBased) => {
                 let mut full_ring = Vec::with_capacity(2 * ring.len());
                 self.topo.full_ring_into(self.quads, v, &mut full_ring);
-                (angle_based::target(points, v, &full_ring), energy::vertex_energy(points, v, ring))
+                with_energy(angle_based::target(points, v, &full_ring))
             }
         };
         let p = points[v];
@@ -519,17 +517,17 @@ impl RunContext<'_> {
         if slide.position == p {
             return pick(snap, BoundaryMode::Snap, None);
         }
-        let q_slide = guard::star_min_avg(points, self.quads, self.topo, v, slide.position);
-        let q_snap = guard::star_min_avg(points, self.quads, self.topo, v, snap.position);
-        let snap_wins = if q_snap.0.min(q_slide.0) >= self.floor {
-            q_snap.1 > q_slide.1 + AUTO_TIE
+        let q_slide = guard::star_quality(points, self.quads, self.topo, v, slide.position);
+        let q_snap = guard::star_quality(points, self.quads, self.topo, v, snap.position);
+        let snap_wins = if q_snap.min.min(q_slide.min) >= self.floor {
+            q_snap.avg > q_slide.avg + AUTO_TIE
         } else {
-            q_snap.0 > q_slide.0 + AUTO_TIE
+            q_snap.min > q_slide.min + AUTO_TIE
         };
         if snap_wins {
-            pick(snap, BoundaryMode::Snap, Some(q_snap.0))
+            pick(snap, BoundaryMode::Snap, Some(q_snap.min))
         } else {
-            pick(slide, BoundaryMode::Slide, Some(q_slide.0))
+            pick(slide, BoundaryMode::Slide, Some(q_slide.min))
         }
     }
 }

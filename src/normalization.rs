@@ -13,7 +13,7 @@
 //! - Those last-place differences would be enough to send the optimizer's discrete choices
 //!   (the guard, the best iterate, the max-min stage's greedy moves) down another path, so the
 //!   normalized coordinates are rounded to a grid of `2^-20` of the shortest edge (a power of
-//!   two, [`Normalization::grid_exponent`]). Rescaled copies then get the very same bits and the
+//!   two, `Normalization::grid_exponent`). Rescaled copies then get the very same bits and the
 //!   very same run, unless a coordinate lies within its rounding of a grid midpoint (about one
 //!   coordinate in 10^8 for a mesh whose shortest edge is a thousandth of its size). Rounding
 //!   moves a vertex by at most `2^-21` of the shortest edge, which changes a quad's scaled

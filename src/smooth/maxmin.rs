@@ -300,7 +300,7 @@ impl FixedPart {
         self.value_from(&edges)
     }
 
-    /// [`FixedPart::value`] from the moving corner's two edges, already computed.
+    /// `FixedPart::value` from the moving corner's two edges, already computed.
     #[inline]
     fn value_from(&self, edges: &MovingEdges) -> Option<f64> {
         if !self.usable {

@@ -19,7 +19,7 @@
 //! connectivity unchanged; the same output bit for bit on 1, 2 and 4 threads. Readers: any
 //! bytes give `Ok` or `Err` for every format, and write-then-read is bit-identical.
 //!
-//! Case counts keep the file at about a minute in release on two cores; raise them with
+//! Case counts keep the file at a few seconds in release on two cores; raise them with
 //! the `PROPTEST_CASES` environment variable for a longer search.
 
 mod common;

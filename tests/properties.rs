@@ -304,6 +304,32 @@ fn boundary_mode() -> impl Strategy<Value = BoundaryMode> {
     prop::sample::select(BoundaryMode::ALL.to_vec())
 }
 
+/// Options from drawn values, every field set; the stopping rule is drawn with the energy
+/// rule's own flag and the max-min stage with the guard's flag, so both rules and both stage
+/// settings are covered without extra draws.
+fn drawn_options(
+    (method, boundary, lambda): (Method, BoundaryMode, f64),
+    (tau, tau_absolute, max_iterations): (f64, bool, usize),
+    (feature_angle_deg, guard, guard_floor): (f64, bool, f64),
+    (untangle, keep_best, max_boundary_deviation): (bool, bool, Option<f64>),
+) -> Options {
+    Options::DEFAULT
+        .with_method(method)
+        .with_boundary(boundary)
+        .with_lambda(lambda)
+        .with_stop(if tau_absolute { StopRule::Energy } else { StopRule::Quality })
+        .with_max_min(guard)
+        .with_tau(tau)
+        .with_tau_absolute(tau_absolute)
+        .with_max_iterations(max_iterations)
+        .with_feature_angle_deg(feature_angle_deg)
+        .with_guard(guard)
+        .with_guard_floor(guard_floor)
+        .with_untangle(untangle)
+        .with_keep_best(keep_best)
+        .with_max_boundary_deviation(max_boundary_deviation)
+}
+
 /// Valid options of every kind, with a small iteration cap.
 fn valid_options() -> impl Strategy<Value = Options> {
     (
@@ -312,27 +338,7 @@ fn valid_options() -> impl Strategy<Value = Options> {
         (prop_oneof![Just(45.0), 0.0f64..=180.0], any::<bool>(), prop_oneof![Just(0.05), 1e-6f64..=1.0]),
         (any::<bool>(), any::<bool>(), prop::option::of(0.0f64..1.0)),
     )
-        .prop_map(
-            |((m, b, lambda), (tau, tau_abs, iters), (fa, guard, floor), (untangle, best, dev))| {
-                Options::DEFAULT
-                    .with_method(m)
-                    .with_boundary(b)
-                    .with_lambda(lambda)
-                    // Both rules, drawn with the energy rule's own flag.
-                    .with_stop(if tau_abs { StopRule::Energy } else { StopRule::Quality })
-                    // With and without the max-min stage, drawn with the guard's flag.
-                    .with_max_min(guard)
-                    .with_tau(tau)
-                    .with_tau_absolute(tau_abs)
-                    .with_max_iterations(iters)
-                    .with_feature_angle_deg(fa)
-                    .with_guard(guard)
-                    .with_guard_floor(floor)
-                    .with_untangle(untangle)
-                    .with_keep_best(best)
-                    .with_max_boundary_deviation(dev)
-            },
-        )
+        .prop_map(|(a, b, c, d)| drawn_options(a, b, c, d))
 }
 
 /// Any f64, weighted towards values at and beyond the edges of the option ranges.
@@ -359,23 +365,7 @@ fn any_options() -> impl Strategy<Value = Options> {
         prop::option::of(wild_f64()),
     )
         .prop_map(|((m, b, lambda, tau, tau_abs, iters), (fa, guard, floor, untangle, best), dev)| {
-            Options::DEFAULT
-                .with_method(m)
-                .with_boundary(b)
-                .with_lambda(lambda)
-                // Both rules, drawn with the energy rule's own flag.
-                .with_stop(if tau_abs { StopRule::Energy } else { StopRule::Quality })
-                // With and without the max-min stage, drawn with the guard's flag.
-                .with_max_min(guard)
-                .with_tau(tau)
-                .with_tau_absolute(tau_abs)
-                .with_max_iterations(iters)
-                .with_feature_angle_deg(fa)
-                .with_guard(guard)
-                .with_guard_floor(floor)
-                .with_untangle(untangle)
-                .with_keep_best(best)
-                .with_max_boundary_deviation(dev)
+            drawn_options((m, b, lambda), (tau, tau_abs, iters), (fa, guard, floor), (untangle, best, dev))
         })
 }
 

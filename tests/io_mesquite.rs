@@ -1,19 +1,16 @@
-//! Reads every Mesquite quad test mesh in /work/shared/meshes/mesquite (when present; the
-//! directory is not part of the repository, so the tests skip with a message without it).
+//! Reads every Mesquite quad test mesh in `../shared/meshes/mesquite` next to the repository
+//! (when present; the directory is not part of the repository, so the tests skip with a
+//! one-line message without it).
 
+mod common;
+
+use common::shared;
 use quadopt::Error;
 use quadopt::io::{self, Format, IoError, PlanarFrame, PlanarMesh};
 use std::path::{Path, PathBuf};
 
-fn mesquite() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/mesquite");
-    let dir = if dir.is_dir() { dir } else { PathBuf::from("/work/shared/meshes/mesquite") };
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: the Mesquite meshes (../shared/meshes/mesquite) are not available");
-        None
-    }
+fn mesquite(test: &str) -> Option<PathBuf> {
+    shared::mesquite(&format!("{test} (the Mesquite meshes)"))
 }
 
 fn files(dir: &Path) -> Vec<PathBuf> {
@@ -63,7 +60,7 @@ fn expected(name: &str) -> Result<(usize, usize, Option<usize>), &'static str> {
 
 #[test]
 fn every_mesquite_mesh_reads_or_fails_precisely() {
-    let Some(dir) = mesquite() else { return };
+    let Some(dir) = mesquite("every_mesquite_mesh_reads_or_fails_precisely") else { return };
     let all = files(&dir);
     assert!(all.len() >= 30, "{} files", all.len());
     for path in all {
@@ -92,7 +89,7 @@ fn every_mesquite_mesh_reads_or_fails_precisely() {
 
 #[test]
 fn z_minus_5_and_clockwise_meshes_map_exactly() {
-    let Some(dir) = mesquite() else { return };
+    let Some(dir) = mesquite("z_minus_5_and_clockwise_meshes_map_exactly") else { return };
     let data = io::read_mesh(dir.join("tangled/hole_in_square.vtk")).unwrap();
     let planar = PlanarMesh::new(&data).unwrap();
     assert_eq!(planar.frame, PlanarFrame::Axis { axis: 2, value: -5.0 });
@@ -110,7 +107,9 @@ fn z_minus_5_and_clockwise_meshes_map_exactly() {
 /// keep the suite fast.
 #[test]
 fn default_optimization_keeps_its_guarantees_on_the_mesquite_meshes() {
-    let Some(dir) = mesquite() else { return };
+    let Some(dir) = mesquite("default_optimization_keeps_its_guarantees_on_the_mesquite_meshes") else {
+        return;
+    };
     let mut checked = 0;
     for path in files(&dir) {
         let name = path.file_name().unwrap().to_str().unwrap().to_string();
@@ -140,4 +139,47 @@ fn default_optimization_keeps_its_guarantees_on_the_mesquite_meshes() {
         checked += 1;
     }
     assert!(checked >= 25, "{checked} meshes checked");
+}
+
+/// Every test finds `../shared` through `common::shared`, relative to the repository: none
+/// names a path of one machine (such as `/work/shared`) or looks for `../shared` on its own,
+/// where a missing directory could go unsaid.
+#[test]
+fn tests_find_the_shared_data_only_relative_to_the_repository() {
+    let tests = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    // Spelled in two pieces, so that this file does not match itself.
+    let needles = [concat!("\"/", "work/"), concat!("../", "shared")];
+    let mut offenders = Vec::new();
+    for dir in [tests.clone(), tests.join("common")] {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "rs") || path.ends_with("common/shared.rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            for (i, line) in text.lines().enumerate() {
+                let code = line.trim_start();
+                if !code.starts_with("//") && needles.iter().any(|n| code.contains(n)) {
+                    offenders.push(format!("{}:{}: {code}", path.display(), i + 1));
+                }
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "use common::shared instead:\n{}", offenders.join("\n"));
+}
+
+/// Without `../shared`, the helper says on one line what is skipped and where it looked.
+#[test]
+fn a_missing_shared_directory_is_skipped_with_one_line_saying_why() {
+    let base = std::env::temp_dir().join(format!("quadopt-no-shared-{}", std::process::id()));
+    let root = base.join("repository");
+    let looked = root.join("..").join("shared").join("meshes/mesquite");
+    std::fs::create_dir_all(&root).unwrap();
+    let line = shared::locate(&root, "meshes/mesquite", "the check").unwrap_err();
+    assert!(line.starts_with("skipped: the check, because "), "{line}");
+    assert!(line.contains(&format!("{} is not a directory", looked.display())), "{line}");
+    assert!(!line.contains('\n'), "{line}");
+    std::fs::create_dir_all(base.join("shared/meshes/mesquite")).unwrap();
+    assert_eq!(shared::locate(&root, "meshes/mesquite", "the check"), Ok(looked));
+    std::fs::remove_dir_all(&base).unwrap();
 }

@@ -25,7 +25,9 @@ pub struct Synthetic {
     pub nx: u32,
     /// Cells along y (>= 1).
     pub ny: u32,
-    /// Number of holes, placed on the smallest square lattice that holds them.
+    /// Number of holes, placed on the smallest square lattice that holds them. That lattice may
+    /// not be finer than the grid (at most `min(nx, ny)` sites per side, so at most
+    /// `min(nx, ny)^2` holes).
     pub holes: u32,
     /// Hole diameter as a fraction of the lattice spacing, in [0, 1).
     pub hole_size: f64,
@@ -65,8 +67,9 @@ impl Synthetic {
     }
 
     /// Builds the mesh, or fails with [`Error::InvalidOption`] for a grid whose vertices
-    /// `u32` indices cannot number, or [`Error::OutOfMemory`] for one too large for the
-    /// memory available (checked before anything of that size is allocated).
+    /// `u32` indices cannot number or for more holes than fit in the grid (see
+    /// [`Synthetic::holes`]), or [`Error::OutOfMemory`] for a grid too large for the memory
+    /// available (checked before anything of that size is allocated).
     pub fn try_generate(&self) -> Result<QuadMesh> {
         let (nx, ny) = (self.nx.max(1) as usize, self.ny.max(1) as usize);
         // Every grid point gets an index below u32::MAX (the mark of an unused point).
@@ -77,6 +80,19 @@ impl Synthetic {
                 reason: format!(
                     "a {nx} x {ny} grid has {grid_points} vertices, more than uint32 indices can number ({})",
                     u32::MAX - 1
+                ),
+            });
+        }
+        let k = lattice_side(self.holes);
+        let side = nx.min(ny);
+        if k > side {
+            return Err(Error::InvalidOption {
+                name: "holes",
+                reason: format!(
+                    "{} holes do not fit in a {nx} x {ny} grid: their {k} x {k} lattice is finer than the grid \
+                     (at most {} holes, on a {side} x {side} lattice)",
+                    self.holes,
+                    side * side
                 ),
             });
         }
@@ -128,19 +144,23 @@ impl Synthetic {
         QuadMesh::new(points, quads, None)
     }
 
-    /// Which cells survive: those whose centre lies outside every hole.
+    /// Which cells survive: those whose centre lies outside every hole. A hole's radius is
+    /// less than half the lattice spacing, so it lies inside its own lattice cell: only the
+    /// hole of the lattice cell holding a cell's centre can contain it.
     fn kept_cells(&self, nx: usize, ny: usize) -> Result<Vec<bool>> {
         let k = lattice_side(self.holes);
         let (w, h) = (nx as f64, ny as f64);
         let radius = self.hole_size.clamp(0.0, 0.999) * 0.5 * (w / k as f64).min(h / k as f64);
-        let centres: Vec<DVec2> = (0..self.holes as usize)
-            .map(|n| DVec2::new((n % k) as f64 + 0.5, (n / k) as f64 + 0.5) * DVec2::new(w, h) / k as f64)
-            .collect();
         let mut kept = try_filled(nx * ny, true, "grid cells")?;
         for j in 0..ny {
             for i in 0..nx {
                 let c = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                kept[j * nx + i] = centres.iter().all(|&o| (c - o).length() >= radius);
+                let (a, b) = (lattice_cell(c.x, w, k), lattice_cell(c.y, h, k));
+                let n = b * k + a;
+                if n < self.holes as usize {
+                    let o = DVec2::new(a as f64 + 0.5, b as f64 + 0.5) * DVec2::new(w, h) / k as f64;
+                    kept[j * nx + i] = (c - o).length() >= radius;
+                }
             }
         }
         Ok(kept)
@@ -154,6 +174,11 @@ fn lattice_side(holes: u32) -> usize {
         k += 1;
     }
     k
+}
+
+/// The lattice cell (of `k` along a side of length `len`) that holds the coordinate `x`.
+fn lattice_cell(x: f64, len: f64, k: usize) -> usize {
+    ((x * k as f64 / len) as usize).min(k - 1)
 }
 
 /// A uniform number in [-1, 1) from 53 random bits.
@@ -215,6 +240,53 @@ mod tests {
             let e = s.try_generate().unwrap_err();
             assert!(matches!(e, Error::InvalidOption { name: "grid size", .. }), "{e}");
             assert!(e.to_string().contains("more than uint32 indices can number (4294967294)"), "{e}");
+        }
+    }
+
+    #[test]
+    fn more_holes_than_fit_are_an_error_not_an_abort() {
+        // 2^32 - 1 holes: their centres alone would take 64 GiB.
+        for (s, text) in [
+            (
+                Synthetic { holes: u32::MAX, ..Synthetic::with_quads(1000) },
+                "4294967295 holes do not fit in a 35 x 35 grid: their 65536 x 65536 lattice is finer",
+            ),
+            (
+                Synthetic { nx: 3, ny: 50, holes: 10, ..Synthetic::default() },
+                "(at most 9 holes, on a 3 x 3 lattice)",
+            ),
+        ] {
+            let e = s.try_generate().unwrap_err();
+            assert!(matches!(e, Error::InvalidOption { name: "holes", .. }), "{e}");
+            assert!(e.to_string().contains(text), "{e}");
+        }
+        assert!(Synthetic { nx: 3, ny: 50, holes: 9, ..Synthetic::default() }.try_generate().is_ok());
+    }
+
+    /// Only the hole of a cell's own lattice cell is tested: the same cells as testing every
+    /// hole.
+    #[test]
+    fn kept_cells_are_those_outside_every_hole() {
+        for (nx, ny, holes, hole_size) in
+            [(40, 40, 4, 0.5), (37, 23, 7, 0.9), (10, 10, 100, 0.999), (64, 9, 81, 0.7), (50, 50, 3, 0.3)]
+        {
+            let s = Synthetic { nx, ny, holes, hole_size, ..Synthetic::default() };
+            let (nx, ny) = (nx as usize, ny as usize);
+            let k = lattice_side(holes);
+            let (w, h) = (nx as f64, ny as f64);
+            let radius = hole_size * 0.5 * (w / k as f64).min(h / k as f64);
+            let centres: Vec<DVec2> = (0..holes as usize)
+                .map(|n| DVec2::new((n % k) as f64 + 0.5, (n / k) as f64 + 0.5) * DVec2::new(w, h) / k as f64)
+                .collect();
+            let every_hole: Vec<bool> = (0..nx * ny)
+                .map(|c| {
+                    let c = DVec2::new((c % nx) as f64 + 0.5, (c / nx) as f64 + 0.5);
+                    centres.iter().all(|&o| (c - o).length() >= radius)
+                })
+                .collect();
+            let kept = s.kept_cells(nx, ny).unwrap();
+            assert_eq!(kept, every_hole, "{s:?}");
+            assert!(kept.iter().any(|&k| !k), "{s:?}: no hole cut");
         }
     }
 

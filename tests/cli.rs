@@ -334,6 +334,21 @@ fn generate_writes_the_requested_synthetic_mesh() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--hole-size"));
     assert!(!bad.exists());
+    // So are more holes than the grid has room for (checked before allocating anything for
+    // them: 2^32 - 1 hole centres would take 64 GiB).
+    for (args, needle) in [
+        (&["--quads", "1000", "--holes", "4294967295"][..], "4294967295 holes do not fit in a 35 x 35 grid"),
+        (&["--nx", "3", "--ny", "50", "--holes", "10"][..], "(at most 9 holes, on a 3 x 3 lattice)"),
+    ] {
+        let out = quadopt(&[&["generate", "-o", s(&bad)][..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.starts_with("quadopt: error: --holes: ") && err.contains(needle), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(!bad.exists());
+    }
+    let out = quadopt(&["generate", "-o", s(&bad), "--nx", "3", "--ny", "50", "--holes", "9"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
 #[test]

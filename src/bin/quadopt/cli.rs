@@ -157,7 +157,8 @@ pub enum Command {
         /// Cells along y.
         #[arg(long, default_value_t = Synthetic::default().ny)]
         ny: u32,
-        /// Number of circular holes.
+        /// Number of circular holes, on a square lattice no finer than the grid (at most
+        /// min(nx, ny)^2 holes).
         #[arg(long, default_value_t = Synthetic::default().holes)]
         holes: u32,
         /// Hole diameter as a fraction of the hole spacing, in [0, 1).

@@ -3,6 +3,7 @@
 use crate::fail::Fail;
 use crate::mesh_files::MeshWriter;
 use crate::stdout::report_on_stderr_if_written_to_stdout;
+use quadopt::Error;
 use quadopt::io::{Format, MeshData};
 use quadopt::synthetic::Synthetic;
 use std::path::Path;
@@ -18,7 +19,11 @@ pub fn generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Resu
     if spec.nx == 0 || spec.ny == 0 {
         return Err(Fail::Usage("--nx and --ny must be at least 1".into()));
     }
-    let mesh = spec.try_generate()?;
+    let mesh = spec.try_generate().map_err(|e| match e {
+        // More holes than the grid has room for: the request itself is wrong.
+        Error::InvalidOption { name: "holes", reason } => Fail::Usage(format!("--holes: {reason}")),
+        e => Fail::from(e),
+    })?;
     let points = mesh.points().iter().map(|p| [p.x, p.y, 0.0]).collect();
     let data = MeshData::new(points, mesh.quads_as_given());
     writer.write(output, &data)?;

@@ -124,7 +124,7 @@ static void test_version_and_strings(void) {
   }
   CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OK), "ok") == 0);
   CHECK(strcmp(quadopt_status_string(-1), "unknown status") == 0);
-  CHECK(strcmp(quadopt_status_string(15), "unknown status") == 0);
+  CHECK(strcmp(quadopt_status_string(16), "unknown status") == 0);
   CHECK(strcmp(quadopt_status_string(2147483647), "unknown status") == 0);
   /* The enum values are the agreed ABI. */
   CHECK(QUADOPT_STATUS_OK == 0 && QUADOPT_STATUS_NULL_POINTER == 1 && QUADOPT_STATUS_INVALID_ARGUMENT == 2);
@@ -134,6 +134,8 @@ static void test_version_and_strings(void) {
   CHECK(QUADOPT_STATUS_MISMATCH == 10 && QUADOPT_STATUS_CANCELLED == 11 && QUADOPT_STATUS_PANIC == 12);
   CHECK(QUADOPT_STATUS_NOT_PLANAR == 13 && QUADOPT_STATUS_OUT_OF_MEMORY == 14);
   CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_OUT_OF_MEMORY), "out of memory") == 0);
+  CHECK(QUADOPT_STATUS_CLOSED_MESH == 15);
+  CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_CLOSED_MESH), "closed mesh") == 0);
   CHECK(QUADOPT_METHOD_EMBEDDED_POLYGON == 0 && QUADOPT_METHOD_LAPLACIAN == 1 && QUADOPT_METHOD_COTANGENT == 2 &&
         QUADOPT_METHOD_ANGLE_BASED == 3);
   CHECK(QUADOPT_BOUNDARY_AUTO == 0 && QUADOPT_BOUNDARY_FIXED == 1 && QUADOPT_BOUNDARY_SLIDE == 2 &&
@@ -483,6 +485,26 @@ static void test_errors(void) {
     double p[2 * 6] = {0, 1, 1, 1, 2, 1, 0, 0, 1, 0, 2, 0};
     uint32_t mq[12] = {0, 3, 4, 1, 1, 4, 5, 2, 2, 5, 0, 3};
     EXPECT_FAILURE(QUADOPT_STATUS_NON_ORIENTABLE, p, 2, 6, mq, 3, NULL, NULL, "orient");
+  }
+  {
+    /* A closed mesh: a 6 x 6 grid whose quads wrap around in x and y (a torus, every vertex
+     * interior). No orientation makes all its quads valid in the plane. */
+    double p[2 * 36];
+    uint32_t wq[4 * 36];
+    uint32_t i, j;
+    for (j = 0; j < 6; ++j) {
+      for (i = 0; i < 6; ++i) {
+        uint32_t *c = wq + 4 * (6 * j + i);
+        p[2 * (6 * j + i)] = i;
+        p[2 * (6 * j + i) + 1] = j;
+        c[0] = 6 * j + i;
+        c[1] = 6 * j + (i + 1) % 6;
+        c[2] = 6 * ((j + 1) % 6) + (i + 1) % 6;
+        c[3] = 6 * ((j + 1) % 6) + i;
+      }
+    }
+    EXPECT_FAILURE(QUADOPT_STATUS_CLOSED_MESH, p, 2, 36, wq, 36, NULL, NULL, "the mesh is closed (it has no boundary edge)");
+    CHECK_STATUS(quadopt_quality(p, 2, 36, wq, 36, &q, NULL, 0), QUADOPT_STATUS_CLOSED_MESH);
   }
   {
     double bad[2 * GRID_N];

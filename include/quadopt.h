@@ -116,6 +116,12 @@ typedef enum QuadoptStatus {
      * call can succeed with more memory available.
      */
     QUADOPT_STATUS_OUT_OF_MEMORY = 14,
+    /**
+     * The mesh, or a connected part of it, is closed: it has no boundary edge (every vertex
+     * is interior, as in a periodic grid whose quads wrap around). A closed surface cannot lie
+     * flat in a plane without folds, so it has no orientation that makes every quad valid.
+     */
+    QUADOPT_STATUS_CLOSED_MESH = 15,
 } QuadoptStatus;
 
 /**
@@ -530,7 +536,10 @@ struct QuadoptReport quadopt_report_init(void);
  * - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
  * - `dim`: 2 or 3 doubles per vertex.
  * - `quads`: `4 * quad_count` vertex indices, four per quad in boundary order; NULL only if
- *   `quad_count` is 0. Quads may be given clockwise or counter-clockwise.
+ *   `quad_count` is 0. Quads may be given clockwise or counter-clockwise. Each connected part
+ *   of the mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
+ *   whose quads wrap around) cannot lie flat in a plane without folds and is
+ *   `QUADOPT_STATUS_CLOSED_MESH`.
  * - `fixed`: NULL (no fixed vertices) or `vertex_count` bytes, nonzero = the vertex never moves.
  * - `options`: NULL for the defaults.
  * - `report`: NULL, or a report whose `struct_size` is set (see `quadopt_report_init()`).

@@ -30,6 +30,11 @@ pub enum Error {
     /// The quads cannot be oriented consistently (e.g. a Moebius strip).
     #[error("the mesh is not orientable: quad {quad} cannot be oriented consistently with its neighbours")]
     NonOrientable { quad: usize },
+    /// The mesh, or a connected part of it (the quads edge-connected to `quad`), has no
+    /// boundary edge: a closed surface, which cannot lie flat in a plane without folds, so no
+    /// orientation makes all its quads valid.
+    #[error("{}", closed_message(*.quad, *.whole_mesh))]
+    ClosedMesh { quad: usize, whole_mesh: bool },
     /// The fixed-flag array does not have one entry per vertex.
     #[error("{got} fixed flags were given for {expected} vertices")]
     FixedLengthMismatch { expected: usize, got: usize },
@@ -53,6 +58,18 @@ pub enum Error {
     /// Not even one worker thread could start (a thread limit, no memory for a stack).
     #[error("cannot start worker threads: {why}")]
     NoThreads { why: String },
+}
+
+fn closed_message(quad: usize, whole_mesh: bool) -> String {
+    let why = "a closed surface cannot lie flat in a plane without folds";
+    if whole_mesh {
+        format!("the mesh is closed (it has no boundary edge): {why}")
+    } else {
+        format!(
+            "the mesh has a closed part (quad {quad} and the quads connected to it have no boundary edge; \
+             0-based index): {why}"
+        )
+    }
 }
 
 /// Shorthand for results of this crate.

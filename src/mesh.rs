@@ -1,6 +1,9 @@
 //! A validated 2D quad mesh: flat vertex and quad arrays, fixed flags, consistent orientation.
 //!
-//! Validation names the offending quad or vertex. Orientation is made consistent per connected
+//! Validation names the offending quad or vertex. A closed component (one without a boundary
+//! edge, such as a periodic grid whose quads wrap around) is refused: a closed surface cannot
+//! lie flat in a plane without folds, so no orientation of it makes every quad valid, and the
+//! rule below would have no sign to go by. Orientation is made consistent per connected
 //! component (quads disagreeing with their component's majority are reversed and listed in
 //! [`QuadMesh::reoriented`]); a component whose total signed area is negative is clockwise,
 //! which is a valid mesh seen from the other side, not a mesh of inverted quads. Internally every
@@ -327,6 +330,10 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
                 }
             }
         }
+        // A component with no boundary edge (every quad has four neighbours) is closed.
+        if component.iter().all(|&q| offsets[q as usize + 1] - offsets[q as usize] == 4) {
+            return Err(Error::ClosedMesh { quad: seed, whole_mesh: component.len() == nq });
+        }
         // Reverse the minority, so "reoriented" lists as few quads as possible.
         let flipped = component.iter().filter(|&&q| flip[q as usize] == 1).count();
         let minority = u8::from(flipped * 2 <= component.len());
@@ -411,10 +418,46 @@ mod tests {
         assert_eq!((copy.points(), copy.quads(), copy.fixed()), (mesh.points(), mesh.quads(), mesh.fixed()));
         assert_eq!((copy.reoriented(), copy.boundary_edge_count()), (&[1][..], 6));
         assert_eq!(mesh.try_quality_values().unwrap(), mesh.quality_values());
-        // A closed surface (a cube's six faces) has no boundary.
+    }
+
+    /// An n x n grid whose quads wrap around in both directions (a torus): every vertex is
+    /// interior, no edge is on the boundary.
+    fn periodic_grid(n: u32) -> (Vec<DVec2>, Vec<[u32; 4]>) {
+        let id = |i: u32, j: u32| (j % n) * n + i % n;
+        let points = (0..n * n).map(|v| DVec2::new(f64::from(v % n), f64::from(v / n))).collect();
+        let quads = (0..n * n)
+            .map(|c| (c % n, c / n))
+            .map(|(i, j)| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        (points, quads.collect())
+    }
+
+    #[test]
+    fn closed_meshes_and_closed_parts_are_refused() {
+        // A closed surface (a cube's six faces) has no boundary; neither has a periodic grid.
         let cube = vec![[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
         let corners: Vec<DVec2> = (0..8).map(|i| DVec2::new(f64::from(i % 4), f64::from(i / 4))).collect();
-        assert_eq!(QuadMesh::new(corners, cube, None).unwrap().boundary_edge_count(), 0);
+        let closed = Error::ClosedMesh { quad: 0, whole_mesh: true };
+        assert_eq!(QuadMesh::new(corners, cube, None).unwrap_err(), closed);
+        let (p, q) = periodic_grid(6);
+        assert_eq!(QuadMesh::new(p.clone(), q.clone(), None).unwrap_err(), closed);
+        assert_eq!(
+            closed.to_string(),
+            "the mesh is closed (it has no boundary edge): a closed surface cannot lie flat in a plane \
+             without folds"
+        );
+        // A plate first, then the torus: the torus is a closed part, named by its first quad.
+        let (mut points, mut quads) = strip();
+        let offset = points.len() as u32;
+        points.extend(p);
+        quads.extend(q.iter().map(|q| q.map(|v| v + offset)));
+        let err = QuadMesh::new(points, quads, None).unwrap_err();
+        assert_eq!(err, Error::ClosedMesh { quad: 2, whole_mesh: false });
+        assert!(err.to_string().starts_with("the mesh has a closed part (quad 2 and"), "{err}");
+        // One quad less, and the grid has a boundary (the hole it leaves).
+        let (p, mut q) = periodic_grid(6);
+        q.pop();
+        let mesh = QuadMesh::new(p, q, None).unwrap();
+        assert_eq!(mesh.boundary_edge_count(), 4);
     }
 
     #[test]

@@ -157,6 +157,7 @@ fn constants_match_the_rust_definitions() {
         (sys::QUADOPT_STATUS_PANIC, S::Panic),
         (sys::QUADOPT_STATUS_NOT_PLANAR, S::NotPlanar),
         (sys::QUADOPT_STATUS_OUT_OF_MEMORY, S::OutOfMemory),
+        (sys::QUADOPT_STATUS_CLOSED_MESH, S::ClosedMesh),
     ];
     for (i, (c, rust)) in statuses.into_iter().enumerate() {
         assert_eq!((c as i64, rust as i64), (i as i64, i as i64), "{rust:?}");

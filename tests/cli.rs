@@ -174,6 +174,20 @@ fn errors_are_one_line_with_the_right_exit_code_and_no_output() {
     let bowtie = dir.join("nonmanifold.obj");
     std::fs::write(&bowtie, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 1 2 0\nv 0 2 0\nf 1 2 3 4\nf 2 5 6 3\nf 2 3 7 8\n").unwrap();
     fails(&["optimize", s(&bowtie), "-o", o], 1, "non-manifold", Some(&out));
+    // A closed mesh: a 6 x 6 grid whose quads wrap around (every vertex interior).
+    let torus = dir.join("torus.obj");
+    let mut text = String::new();
+    for v in 0..36 {
+        text += &format!("v {} {} 0\n", v % 6, v / 6);
+    }
+    for (i, j) in (0..36).map(|c| (c % 6, c / 6)) {
+        let id = |i: usize, j: usize| (j % 6) * 6 + i % 6 + 1;
+        text += &format!("f {} {} {} {}\n", id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+    std::fs::write(&torus, text).unwrap();
+    let closed = "torus.obj: the mesh is closed (it has no boundary edge): a closed surface cannot lie flat";
+    fails(&["optimize", s(&torus), "-o", o], 1, closed, Some(&out));
+    fails(&["quality", s(&torus)], 1, closed, None);
     fails(&["optimize", g, "-o", o, "--lambda", "2"], 2, "invalid option lambda", Some(&out));
     fails(&["optimize", g, "-o", o, "--tau", "-1"], 2, "invalid option tau", Some(&out));
     fails(&["optimize", g, "-o", o, "--method", "simplex"], 2, "unknown method 'simplex'", Some(&out));

@@ -368,6 +368,38 @@ mod tests {
         assert!(last_error().contains("quad"), "{}", last_error());
     }
 
+    /// A periodic 6 x 6 grid (every quad wraps around, every vertex is interior) has no
+    /// orientation that makes its quads valid: every entry point refuses it, with one message.
+    #[test]
+    fn a_closed_mesh_is_refused_by_every_entry_point() {
+        use QuadoptStatus as S;
+        let n = 6u32;
+        let id = |i: u32, j: u32| (j % n) * n + i % n;
+        let coords: Vec<f64> = (0..n * n).flat_map(|v| [f64::from(v % n), f64::from(v / n)]).collect();
+        let quads: Vec<u32> = (0..n * n)
+            .flat_map(|c| {
+                [id(c % n, c / n), id(c % n + 1, c / n), id(c % n + 1, c / n + 1), id(c % n, c / n + 1)]
+            })
+            .collect();
+        let message = "the mesh is closed (it has no boundary edge): a closed surface cannot lie flat in a plane without folds";
+        assert_eq!(optimize_status(&coords, 2, &quads, None, None), S::ClosedMesh);
+        assert_eq!(last_error(), format!("quadopt_optimize: {message}"));
+        let mut stats = QuadoptQuality { min: 0.0, avg: 0.0, max: 0.0, inverted: 0 };
+        // SAFETY: every pointer refers to a live buffer of the stated length.
+        let s =
+            unsafe { quadopt_quality(coords.as_ptr(), 2, 36, quads.as_ptr(), 36, &mut stats, null_mut(), 0) };
+        assert_eq!((s, last_error()), (S::ClosedMesh, format!("quadopt_quality: {message}")));
+        let mut handle = null_mut();
+        // SAFETY: as above.
+        let s = unsafe {
+            quadopt_optimizer_create(coords.as_ptr(), 2, 36, quads.as_ptr(), 36, null(), &mut handle)
+        };
+        let created = (s, last_error(), handle.is_null());
+        assert_eq!(created, (S::ClosedMesh, format!("quadopt_optimizer_create: {message}"), true));
+        // One quad less leaves a hole, a boundary: then it is an ordinary mesh.
+        assert_eq!(optimize_status(&coords, 2, &quads[..quads.len() - 4], None, None), S::Ok);
+    }
+
     #[test]
     fn panics_are_caught_at_the_boundary() {
         let status = boundary("quadopt_test", || panic!("boom {}", 42));

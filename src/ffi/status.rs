@@ -48,6 +48,10 @@ pub enum QuadoptStatus {
     /// it started, or not even one worker thread could start. Nothing was written; the same
     /// call can succeed with more memory available.
     OutOfMemory = 14,
+    /// The mesh, or a connected part of it, is closed: it has no boundary edge (every vertex
+    /// is interior, as in a periodic grid whose quads wrap around). A closed surface cannot lie
+    /// flat in a plane without folds, so it has no orientation that makes every quad valid.
+    ClosedMesh = 15,
 }
 
 /// A failure on its way to the caller: a status and the detailed message.
@@ -78,6 +82,7 @@ fn status_of(e: &Error) -> QuadoptStatus {
         Error::NonManifoldEdge { .. } => QuadoptStatus::NonManifold,
         Error::NonFiniteCoordinate { .. } => QuadoptStatus::NonFiniteCoordinate,
         Error::NonOrientable { .. } => QuadoptStatus::NonOrientable,
+        Error::ClosedMesh { .. } => QuadoptStatus::ClosedMesh,
         Error::FixedLengthMismatch { .. } => QuadoptStatus::Mismatch,
         Error::VertexCountMismatch { .. } | Error::ConnectivityMismatch { .. } => QuadoptStatus::Mismatch,
         Error::InvalidOption { .. } => QuadoptStatus::InvalidOption,
@@ -122,6 +127,7 @@ fn status_name(status: i32) -> &'static CStr {
         12 => c"internal error (panic)",
         13 => c"not planar",
         14 => c"out of memory",
+        15 => c"closed mesh",
         _ => c"unknown status",
     }
 }
@@ -149,6 +155,7 @@ mod tests {
             (Error::NonManifoldEdge { a: 0, b: 1, count: 3, first: 0, second: 1 }, S::NonManifold),
             (Error::NonFiniteCoordinate { vertex: 0 }, S::NonFiniteCoordinate),
             (Error::NonOrientable { quad: 0 }, S::NonOrientable),
+            (Error::ClosedMesh { quad: 0, whole_mesh: true }, S::ClosedMesh),
             (Error::FixedLengthMismatch { expected: 1, got: 2 }, S::Mismatch),
             (Error::VertexCountMismatch { expected: 1, got: 2 }, S::Mismatch),
             (Error::ConnectivityMismatch { expected: 1, got: 2 }, S::Mismatch),
@@ -168,18 +175,19 @@ mod tests {
             // SAFETY: quadopt_status_string returns a static C string.
             unsafe { CStr::from_ptr(quadopt_status_string(s)) }.to_str().unwrap().to_owned()
         };
-        let known: Vec<String> = (0..=14).map(name).collect();
+        let known: Vec<String> = (0..=15).map(name).collect();
         assert_eq!(known[0], "ok");
         assert_eq!(known[11], "cancelled");
         let mut unique = known.clone();
         unique.sort();
         unique.dedup();
-        assert_eq!(unique.len(), 15, "status strings must be distinct");
-        for s in [-1, 15, i32::MIN, i32::MAX] {
+        assert_eq!(unique.len(), 16, "status strings must be distinct");
+        for s in [-1, 16, i32::MIN, i32::MAX] {
             assert_eq!(name(s), "unknown status");
         }
         assert_eq!(QuadoptStatus::NotPlanar as i32, 13);
         assert_eq!((QuadoptStatus::OutOfMemory as i32, known[14].as_str()), (14, "out of memory"));
+        assert_eq!((QuadoptStatus::ClosedMesh as i32, known[15].as_str()), (15, "closed mesh"));
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub const QUADOPT_STATUS_CANCELLED: QuadoptStatus = 11;
 pub const QUADOPT_STATUS_PANIC: QuadoptStatus = 12;
 pub const QUADOPT_STATUS_NOT_PLANAR: QuadoptStatus = 13;
 pub const QUADOPT_STATUS_OUT_OF_MEMORY: QuadoptStatus = 14;
+pub const QUADOPT_STATUS_CLOSED_MESH: QuadoptStatus = 15;
 pub type QuadoptStatus = ::std::os::raw::c_uint;
 pub const QUADOPT_METHOD_EMBEDDED_POLYGON: QuadoptMethod = 0;
 pub const QUADOPT_METHOD_LAPLACIAN: QuadoptMethod = 1;

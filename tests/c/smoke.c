@@ -140,6 +140,32 @@ int main(void) {
     CHECK(strstr(quadopt_last_error(), "quad 1 corner 2 refers to vertex 9") != NULL);
     CHECK(memcmp(before, coords, sizeof coords) == 0 && report.iterations == 0);
     CHECK(quadopt_optimize(NULL, 3, 9, QUADS, 4, NULL, NULL, NULL) == QUADOPT_STATUS_NULL_POINTER);
+    {
+        /* A closed mesh: a 6 x 6 grid whose quads wrap around in x and y (every vertex
+         * interior, no boundary edge) cannot lie flat in a plane without folds. */
+        double grid[2 * 36];
+        uint32_t wrapped[4 * 36];
+        uint32_t i, j;
+        for (j = 0; j < 6; j++) {
+            for (i = 0; i < 6; i++) {
+                uint32_t *q = wrapped + 4 * (6 * j + i);
+                grid[2 * (6 * j + i)] = i;
+                grid[2 * (6 * j + i) + 1] = j;
+                q[0] = 6 * j + i;
+                q[1] = 6 * j + (i + 1) % 6;
+                q[2] = 6 * ((j + 1) % 6) + (i + 1) % 6;
+                q[3] = 6 * ((j + 1) % 6) + i;
+            }
+        }
+        CHECK(quadopt_optimize(grid, 2, 36, wrapped, 36, NULL, NULL, NULL) ==
+              QUADOPT_STATUS_CLOSED_MESH);
+        CHECK(strcmp(quadopt_last_error(), "quadopt_optimize: the mesh is closed (it has no boundary "
+                                           "edge): a closed surface cannot lie flat in a plane without "
+                                           "folds") == 0);
+        CHECK(quadopt_quality(grid, 2, 36, wrapped, 36, &quality, NULL, 0) ==
+              QUADOPT_STATUS_CLOSED_MESH);
+        CHECK(strcmp(quadopt_status_string(QUADOPT_STATUS_CLOSED_MESH), "closed mesh") == 0);
+    }
     CHECK(quadopt_optimize(coords, 4, 9, QUADS, 4, NULL, NULL, NULL) ==
           QUADOPT_STATUS_INVALID_ARGUMENT);
     options.method = 42;

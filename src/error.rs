@@ -1,5 +1,7 @@
 //! The library's error type. Every variant names the offending item so a caller (or the C
 //! ABI's last-error message) can point at it; `ffi` maps each variant to one status code.
+//! Vertices, quads and corners are numbered by their position in the caller's arrays, from 0,
+//! and every message that numbers them says so (a file's line numbers count from 1).
 
 use thiserror::Error;
 
@@ -13,22 +15,27 @@ pub enum Error {
     NoQuads,
     /// A quad refers to a vertex that does not exist.
     #[error(
-        "quad {quad} corner {corner} refers to vertex {index}, but there are only {vertex_count} vertices"
+        "quad {quad} corner {corner} refers to vertex {index}, but there are only {vertex_count} vertices \
+         (quad, corner and vertex numbers are 0-based)"
     )]
     IndexOutOfRange { quad: usize, corner: usize, index: u64, vertex_count: usize },
     /// A quad uses the same vertex twice.
-    #[error("quad {quad} uses vertex {vertex} more than once")]
+    #[error("quad {quad} uses vertex {vertex} more than once (quad and vertex numbers are 0-based)")]
     RepeatedVertex { quad: usize, vertex: u32 },
     /// An edge is shared by more than two quads.
     #[error(
-        "edge ({a}, {b}) is shared by {count} quads (first: quads {first} and {second}); the mesh is non-manifold"
+        "edge ({a}, {b}) is shared by {count} quads (first: quads {first} and {second}); the mesh is non-manifold \
+         (vertex and quad numbers are 0-based)"
     )]
     NonManifoldEdge { a: u32, b: u32, count: usize, first: usize, second: usize },
     /// A vertex coordinate is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite coordinate")]
+    #[error("vertex {vertex} has a non-finite coordinate (vertex numbers are 0-based)")]
     NonFiniteCoordinate { vertex: usize },
     /// The quads cannot be oriented consistently (e.g. a Moebius strip).
-    #[error("the mesh is not orientable: quad {quad} cannot be oriented consistently with its neighbours")]
+    #[error(
+        "the mesh is not orientable: quad {quad} cannot be oriented consistently with its neighbours \
+         (quad numbers are 0-based)"
+    )]
     NonOrientable { quad: usize },
     /// The mesh, or a connected part of it (the quads edge-connected to `quad`), has no
     /// boundary edge: a closed surface, which cannot lie flat in a plane without folds, so no
@@ -49,7 +56,8 @@ pub enum Error {
     InvalidOption { name: &'static str, reason: String },
     /// The vertices do not lie in one plane (curved surface meshes are not supported).
     #[error(
-        "the mesh is not planar: vertex {vertex} is {distance:e} away from the best-fit plane (tolerance {tolerance:e})"
+        "the mesh is not planar: vertex {vertex} is {distance:e} away from the best-fit plane (tolerance {tolerance:e}; \
+         vertex numbers are 0-based)"
     )]
     NotPlanar { vertex: usize, distance: f64, tolerance: f64 },
     /// An allocation that grows with the input failed (or its size overflowed).
@@ -67,7 +75,7 @@ fn closed_message(quad: usize, whole_mesh: bool) -> String {
     } else {
         format!(
             "the mesh has a closed part (quad {quad} and the quads connected to it have no boundary edge; \
-             0-based index): {why}"
+             quad numbers are 0-based): {why}"
         )
     }
 }

@@ -452,7 +452,11 @@ mod tests {
         quads.extend(q.iter().map(|q| q.map(|v| v + offset)));
         let err = QuadMesh::new(points, quads, None).unwrap_err();
         assert_eq!(err, Error::ClosedMesh { quad: 2, whole_mesh: false });
-        assert!(err.to_string().starts_with("the mesh has a closed part (quad 2 and"), "{err}");
+        assert_eq!(
+            err.to_string(),
+            "the mesh has a closed part (quad 2 and the quads connected to it have no boundary edge; quad \
+             numbers are 0-based): a closed surface cannot lie flat in a plane without folds"
+        );
         // One quad less, and the grid has a boundary (the hole it leaves).
         let (p, mut q) = periodic_grid(6);
         q.pop();

@@ -156,7 +156,10 @@ fn non_quad_cells_are_named() {
         matches!(&e, IoError::NonQuad { line: 17, cell: 1, kind } if kind == "triangle (VTK type 5)"),
         "{e:?}"
     );
-    assert_eq!(e.to_string(), "line 17: cell 1 is a triangle (VTK type 5); only quads are supported");
+    assert_eq!(
+        e.to_string(),
+        "line 17: cell 1 is a triangle (VTK type 5); only quads are supported (cell numbers are 0-based)"
+    );
     let vtk = format!("{VTK_HEAD}CELLS 2 8\n4 0 1 4 3\n2 1 2\nCELL_TYPES 2\n9\n3\n");
     assert!(
         matches!(read_err(&vtk, Format::Vtk), IoError::NonQuad { cell: 1, kind, .. } if kind == "line (VTK type 3)")
@@ -184,7 +187,10 @@ fn non_quad_cells_are_named() {
 fn out_of_range_indices_are_errors() {
     let vtk = format!("{VTK_HEAD}CELLS 1 5\n4 0 1 9 3\nCELL_TYPES 1\n9\n");
     let e = read_err(&vtk, Format::Vtk);
-    assert_eq!(e.to_string(), "line 13: cell 0 refers to point 9, but there are only 6 points");
+    assert_eq!(
+        e.to_string(),
+        "line 13: cell 0 refers to point 9, but there are only 6 points (cell and point numbers are 0-based)"
+    );
     let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 5\n";
     assert_eq!(read_err(obj, Format::Obj).to_string(), "line 5: vertex index 5 is out of range (4 vertices)");
     let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf -1 -2 -3 -4\nv 0 1 0\n";
@@ -198,7 +204,8 @@ fn out_of_range_indices_are_errors() {
         $Elements\n1\n7 3 0 1 2 3 5\n$EndElements\n";
     assert_eq!(
         read_err(msh, Format::Msh).to_string(),
-        "line 13: element 0 refers to node 5, which does not exist"
+        "line 13: element 0 refers to node 5, which does not exist (element numbers are 0-based, node numbers \
+         are the file's tags)"
     );
 }
 

@@ -98,7 +98,7 @@ pub enum IoError {
     #[error("{0}")]
     Malformed(String),
     /// A cell is not a quad.
-    #[error("line {line}: cell {cell} is a {kind}; only quads are supported")]
+    #[error("line {line}: cell {cell} is a {kind}; only quads are supported (cell numbers are 0-based)")]
     NonQuad {
         /// 1-based line of the cell (or of its type).
         line: usize,
@@ -277,6 +277,7 @@ impl MeshData {
 /// Reads a mesh file; the format is chosen by the extension. Errors name the path.
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
     let path = path.as_ref();
+    not_a_directory(path, "read")?;
     let format = Format::from_path(path)?;
     let bytes =
         fs::read(path).map_err(|source| IoError::File { path: path.into(), action: "read", source })?;
@@ -340,6 +341,7 @@ pub fn write_mesh_string(format: Format, data: &MeshData) -> Result<String, IoEr
 /// Writes a mesh file, the format chosen by the extension; see [`write_mesh_as`].
 pub fn write_mesh(path: impl AsRef<Path>, data: &MeshData) -> Result<(), IoError> {
     let path = path.as_ref();
+    not_a_directory(path, "write")?;
     write_mesh_as(path, Format::from_path(path)?, data)
 }
 
@@ -349,6 +351,15 @@ pub fn write_mesh(path: impl AsRef<Path>, data: &MeshData) -> Result<(), IoError
 pub fn write_mesh_as(path: impl AsRef<Path>, format: Format, data: &MeshData) -> Result<(), IoError> {
     data.check()?;
     output::write_output(path.as_ref(), |w| write_body(w, format, data))
+}
+
+/// A directory is not a mesh file: say so (rather than that its name has no known extension).
+fn not_a_directory(path: &Path, action: &'static str) -> Result<(), IoError> {
+    if path.is_dir() {
+        let source = std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory");
+        return Err(IoError::File { path: path.into(), action, source });
+    }
+    Ok(())
 }
 
 /// The text of a checked mesh.

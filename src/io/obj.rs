@@ -68,6 +68,13 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             _ => {}
         }
     }
+    if points.is_empty() && quads.is_empty() {
+        // Bytes of another kind (a binary file named .obj): every line is an unknown statement,
+        // which OBJ readers skip; say so rather than that the mesh has no quads.
+        return Err(IoError::Malformed(
+            "nothing in the file parsed as OBJ geometry: it has no vertex (v) or face (f) statement".into(),
+        ));
+    }
     let n = points.len();
     for (line, qi, defined, raw) in unresolved {
         quads[qi] = resolve(raw, defined, n).ok_or_else(|| {

@@ -113,7 +113,7 @@ fn replace(target: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) 
         // What creating the file directly would give: 0666 less the umask.
         builder.permissions(fs::Permissions::from_mode(0o666));
     }
-    let tmp = builder.tempfile_in(dir)?;
+    let tmp = builder.tempfile_in(dir).map_err(without_temporary_name)?;
     pending().push(tmp.path().to_path_buf());
     let result = (|| {
         #[cfg(unix)]
@@ -139,6 +139,17 @@ fn replace(target: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) 
     result
 }
 
+/// tempfile's error on creating the temporary file, without the name it appends (`... at path
+/// "/dir/.quadopt-XXXXXXXXXX.tmp"`): the caller's message names the file the user asked for,
+/// and the temporary one is an internal detail that never exists after the failure.
+fn without_temporary_name(e: io::Error) -> io::Error {
+    let text = e.to_string();
+    match text.rfind(" at path \"") {
+        Some(end) if e.get_ref().is_some() => io::Error::new(e.kind(), &text[..end]),
+        _ => e,
+    }
+}
+
 /// Writes `bytes` to a file as [`write_output`] does.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     write_output(path, |w| w.write_all(bytes))
@@ -147,6 +158,15 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failed_write_names_the_file_asked_for_not_the_temporary_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing/out.vtk");
+        let e = write_file(&path, b"x").unwrap_err().to_string();
+        assert_eq!(e, format!("cannot write {}: {}", path.display(), io::Error::from_raw_os_error(2)));
+        assert!(!e.contains(".quadopt-"), "{e}");
+    }
 
     #[test]
     fn links_are_followed_to_what_they_name() {

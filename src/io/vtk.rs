@@ -263,12 +263,17 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
         if polydata {
             return Err(IoError::NonQuad { line, cell: i, kind: format!("polygon with {k} vertices") });
         }
-        return Err(IoError::Parse { line, message: format!("quad cell {i} has {k} vertices") });
+        return Err(IoError::Parse {
+            line,
+            message: format!("quad cell {i} has {k} vertices (cell numbers are 0-based)"),
+        });
     }
     if let Some((i, v, line)) = bad_index {
         return Err(IoError::Parse {
             line,
-            message: format!("cell {i} refers to point {v}, but there are only {n} points"),
+            message: format!(
+                "cell {i} refers to point {v}, but there are only {n} points (cell and point numbers are 0-based)"
+            ),
         });
     }
     let quads = cells.quads;

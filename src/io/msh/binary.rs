@@ -316,7 +316,8 @@ fn read_elements(
         let ty = c.int("the element type")?;
         let Some(k) = nodes_of(ty) else {
             return Err(IoError::Unsupported(format!(
-                "element {index} has Gmsh element type {ty}; only quads (type 3), points and lines are read"
+                "element {index} has Gmsh element type {ty}; only quads (type 3), points and lines are read \
+                 (element numbers are 0-based)"
             )));
         };
         let n = c.count(8 * (1 + k), "the block's element count")?;

@@ -76,7 +76,11 @@ fn resolve(tags: &NodeTags, line: usize, element: usize, q: [u64; 4]) -> Result<
     for c in 0..4 {
         out[c] = tags.get(q[c]).ok_or_else(|| IoError::Parse {
             line,
-            message: format!("element {element} refers to node {}, which does not exist", q[c]),
+            message: format!(
+                "element {element} refers to node {}, which does not exist (element numbers are 0-based, node \
+                 numbers are the file's tags)",
+                q[c]
+            ),
         })?;
     }
     Ok(out)
@@ -348,7 +352,10 @@ fn element(
             if nodes.len() != 4 {
                 return Err(IoError::Parse {
                     line,
-                    message: format!("quad element {index} has {} nodes", nodes.len()),
+                    message: format!(
+                        "quad element {index} has {} nodes (element numbers are 0-based)",
+                        nodes.len()
+                    ),
                 });
             }
             let mut q = [0u64; 4];

@@ -196,7 +196,18 @@ fn errors_are_one_line_with_the_right_exit_code_and_no_output() {
     fails(&["quality", s(&dir.join("nope.msh"))], 1, "nope.msh", None);
     // An output in a missing directory fails after the work, leaving nothing.
     let deep = dir.join("no/such/out.obj");
-    fails(&["optimize", g, "-o", s(&deep)], 1, "cannot write", None);
+    fails(&["optimize", g, "-o", s(&deep)], 1, &format!("cannot write {}: No such file", s(&deep)), None);
+    let err = String::from_utf8(quadopt(&["optimize", g, "-o", s(&deep)]).stderr).unwrap();
+    assert!(!err.contains(".quadopt-"), "the temporary file is named: {err}");
+    // A directory, as input or output, is named as one (it has no known extension either).
+    fails(
+        &["optimize", s(&dir), "-o", o],
+        1,
+        &format!("cannot read {}: it is a directory", s(&dir)),
+        Some(&out),
+    );
+    fails(&["quality", s(&dir)], 1, "it is a directory", None);
+    fails(&["optimize", g, "-o", s(&dir)], 1, &format!("cannot write {}: it is a directory", s(&dir)), None);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -388,17 +399,21 @@ fn usage_errors_are_one_line_with_the_prefix() {
     let good = dir.join("good.obj");
     io::write_mesh(&good, &jittered_grid(3)).unwrap();
     let g = s(&good);
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 8] = [
         (
             &["optimise", g],
             "unrecognized subcommand 'optimise'; tip: a similar subcommand exists: 'optimize'",
         ),
-        (&["optimize", g], "the following required arguments were not provided: --output <OUTPUT>"),
+        (
+            &["optimize", g],
+            "the following required arguments were not provided: --output <OUTPUT> (see 'quadopt optimize --help')",
+        ),
         (&["optimize", g, "-o", "x.vtk", "--bogus"], "unexpected argument '--bogus'"),
         (&["optimize", g, "-o", "x.vtk", "--max-iter", "many"], "invalid value 'many' for '--max-iter"),
         (&["optimize", g, "-o", "x.vtk", "--format", "stl"], "unknown mesh format 'stl'"),
         (&["--threads", "0", "quality", g], "'0' is not a number of threads"),
         (&["compare"], "required arguments were not provided"),
+        (&["--bogus"], "unexpected argument '--bogus' found (see 'quadopt --help')"),
     ];
     for (args, needle) in cases {
         let out = quadopt(args);
@@ -415,6 +430,105 @@ fn usage_errors_are_one_line_with_the_prefix() {
     let out = quadopt(&["--version"]);
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8(out.stdout).unwrap().starts_with("quadopt "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--help` offers what the build does: every input format, and `--reader` (which only
+/// `openmesh` makes useful) only in a build with OpenMesh, which the version line names.
+#[test]
+fn help_lists_what_this_build_reads() {
+    let text = |args: &[&str]| String::from_utf8(quadopt(args).stdout).unwrap();
+    let optimize = text(&["optimize", "--help"]);
+    assert!(optimize.contains("Input mesh (.obj, .off, .vtk, .msh, .vtu"), "{optimize}");
+    let with_openmesh = text(&["--version"]).contains("(OpenMesh support:");
+    assert_eq!(with_openmesh, cfg!(feature = "openmesh"));
+    for help in [text(&["--help"]), optimize.clone(), text(&["quality", "--help"])] {
+        assert_eq!(help.contains("--reader"), with_openmesh, "{help}");
+    }
+    assert_eq!(optimize.contains(".ply and .om"), with_openmesh, "{optimize}");
+    if !with_openmesh {
+        // Hidden, not removed: asked for, it says why it is refused.
+        let out = quadopt(&["--reader", "openmesh", "quality", "x.obj"]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("built without OpenMesh support"));
+    }
+}
+
+/// A file `name` in `dir` with `bytes`.
+fn file_with(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// Messages number quads and vertices from 0 and say so (files number their lines, and OBJ its
+/// vertices, from 1).
+#[test]
+fn messages_say_that_they_number_from_0() {
+    let dir = scratch("numbers");
+    let out = dir.join("out.vtk");
+    let o = s(&out);
+    let write = |name: &str, text: &[u8]| file_with(&dir, name, text);
+    let repeated = write("repeated.obj", b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 2 4\n");
+    fails(
+        &["optimize", s(&repeated), "-o", o],
+        1,
+        "repeated.obj: quad 0 uses vertex 1 more than once (quad and vertex numbers are 0-based)",
+        Some(&out),
+    );
+    let nan = write("nan.obj", b"v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    fails(
+        &["quality", s(&nan)],
+        1,
+        "nan.obj: vertex 2 has a non-finite coordinate (vertex numbers are 0-based)",
+        None,
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Bytes that are not OBJ, in a file named .obj, say so (not that the mesh has no quads).
+#[test]
+fn bytes_that_are_not_obj_say_so() {
+    let dir = scratch("not-obj");
+    let out = dir.join("out.vtk");
+    let o = s(&out);
+    let write = |name: &str, text: &[u8]| file_with(&dir, name, text);
+    // A PNG's first bytes in a .obj: nothing in it is an OBJ statement.
+    let binary = write("picture.obj", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\x01\0\xff\xfe\n\x07\x08");
+    fails(
+        &["optimize", s(&binary), "-o", o],
+        1,
+        "picture.obj: nothing in the file parsed as OBJ geometry: it has no vertex (v) or face (f) statement",
+        Some(&out),
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Counts of one are singular: "1 quad", "1 iteration", "1 movable vertex".
+#[test]
+fn counts_of_one_are_singular() {
+    let dir = scratch("singular");
+    let out = dir.join("out.vtk");
+    let o = s(&out);
+    let write = |name: &str, text: &[u8]| file_with(&dir, name, text);
+    // One quad; one iteration, one movable vertex: singular.
+    let one = write("one.obj", b"v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 9 9 0\nf 1 2 3 4\n");
+    let text = String::from_utf8(quadopt(&["quality", s(&one)]).stdout).unwrap();
+    assert!(text.starts_with(&format!("{}: 5 vertices, 1 quad\n", s(&one))), "{text}");
+    let patch = write(
+        "patch.obj",
+        b"v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1.6 1.5 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n\
+          f 1 2 5 4\nf 2 3 6 5\nf 4 5 8 7\nf 5 6 9 8\n",
+    );
+    let run = quadopt(&["optimize", s(&patch), "-o", o, "--boundary", "fixed", "--max-iter", "1"]);
+    let text = String::from_utf8(run.stdout).unwrap();
+    assert!(text.starts_with(&format!("{}: 9 vertices, 4 quads\n", s(&patch))), "{text}");
+    assert!(text.contains("\n1 iteration ("), "{text}");
+    assert!(text.contains("; 4 corners, 1 movable vertex, 1 moved, 0 quads reoriented\n"), "{text}");
+    let grid = dir.join("grid.obj");
+    let out = quadopt(&["generate", "-o", s(&grid), "--nx", "1", "--ny", "1", "--holes", "0"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with(&format!("wrote {}: 4 vertices, 1 quad;", s(&grid))), "{text}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -22,7 +22,8 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
     pub threads: Option<usize>,
     /// Reader for .obj and .off: auto (quadopt's) or openmesh (.ply and .om always use OpenMesh).
-    #[arg(long, global = true, value_enum, default_value_t)]
+    // Hidden in a build without OpenMesh, which refuses `--reader openmesh` with a message.
+    #[arg(long, global = true, value_enum, default_value_t, hide = !openmesh_io::ENABLED)]
     pub reader: openmesh_io::Reader,
 }
 
@@ -75,7 +76,7 @@ fn parse_encoding(s: &str) -> Result<io::Encoding, String> {
 pub enum Command {
     /// Optimize a mesh and write the result.
     Optimize {
-        /// Input mesh (.obj, .off, .vtk, .msh).
+        #[arg(help = openmesh_io::INPUT_HELP)]
         input: PathBuf,
         /// Output mesh (format from its extension); `-` writes to stdout, in the input's format.
         #[arg(short, long)]

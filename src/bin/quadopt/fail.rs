@@ -52,6 +52,16 @@ pub fn usage_error(e: &clap::Error) -> ExitCode {
     if msg.is_empty() {
         msg = e.kind().to_string();
     }
-    eprintln!("quadopt: error: {msg} (see 'quadopt --help')");
+    eprintln!("quadopt: error: {msg} (see '{} --help')", command_of(&rendered));
     ExitCode::from(2)
+}
+
+/// The (sub)command a clap error is about, from its usage line (`Usage: quadopt optimize
+/// [OPTIONS] ...` gives `quadopt optimize`), so that the hint points at that command's help.
+fn command_of(rendered: &str) -> String {
+    let usage = rendered.lines().find_map(|l| l.trim().strip_prefix("Usage:"));
+    let words: Vec<&str> = usage
+        .map(|u| u.split_whitespace().take_while(|w| !w.starts_with(['[', '<', '-'])).collect())
+        .unwrap_or_default();
+    if words.is_empty() { "quadopt".into() } else { words.join(" ") }
 }

@@ -23,6 +23,7 @@ mod mesh_files;
 mod openmesh_io;
 mod picture;
 mod picture_files;
+mod plural;
 mod progress;
 
 use clap::Parser;

@@ -83,6 +83,10 @@ fn output_format(output: &Path, format: Option<Format>, fallback: Option<Format>
         (Some(f), _, _) => Ok(f),
         (None, true, Some(f)) => Ok(f),
         (None, true, None) => Err(Fail::Usage("writing to stdout (-o -) needs --format".into())),
+        // A directory has no extension either: say what it is.
+        (None, false, _) if output.is_dir() => {
+            Err(Fail::Other(format!("cannot write {}: it is a directory", output.display())))
+        }
         (None, false, _) => Ok(Format::from_path(output)?),
     }
 }

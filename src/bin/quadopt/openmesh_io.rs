@@ -8,10 +8,20 @@ use quadopt::io::{self, MeshData};
 use std::path::Path;
 use std::sync::OnceLock;
 
+/// Whether OpenMesh support (`.ply`, `.om`, `--reader openmesh`) is compiled in.
+pub const ENABLED: bool = cfg!(feature = "openmesh");
+
+/// `optimize --help` on its input: the formats this build reads.
+pub const INPUT_HELP: &str = if ENABLED {
+    "Input mesh (.obj, .off, .vtk, .msh, .vtu; .ply and .om through OpenMesh)"
+} else {
+    "Input mesh (.obj, .off, .vtk, .msh, .vtu)"
+};
+
 /// Which reader loads `.obj` and `.off` files.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Reader {
-    /// quadopt's own parsers for .obj, .off, .vtk, .msh; OpenMesh for .ply and .om.
+    /// quadopt's own parsers for .obj, .off, .vtk, .msh, .vtu; OpenMesh for .ply and .om.
     #[default]
     Auto,
     /// OpenMesh for every format it reads (.ply, .om, .obj, .off).
@@ -130,7 +140,12 @@ fn to_mesh_data(a: &openmesh_sys::MeshArrays) -> Result<MeshData, String> {
     for (f, face) in a.faces().enumerate() {
         match face {
             &[v0, v1, v2, v3] => quads.push([v0, v1, v2, v3]),
-            _ => return Err(format!("face {f} has {} vertices; only quads are supported", face.len())),
+            _ => {
+                return Err(format!(
+                    "face {f} has {} vertices; only quads are supported (face numbers are 0-based)",
+                    face.len()
+                ));
+            }
         }
     }
     let data = MeshData { points: a.points.clone(), quads, fixed: a.fixed.clone(), ..MeshData::default() };
@@ -161,6 +176,9 @@ mod tests {
         assert_eq!(arrays.face(0), &[0, 1, 2, 3]);
         assert_eq!(to_mesh_data(&arrays).unwrap(), data);
         let tri = openmesh_sys::MeshArrays::new(data.points.clone(), [vec![0, 1, 2, 3], vec![1, 4, 2]]);
-        assert_eq!(to_mesh_data(&tri).unwrap_err(), "face 1 has 3 vertices; only quads are supported");
+        assert_eq!(
+            to_mesh_data(&tri).unwrap_err(),
+            "face 1 has 3 vertices; only quads are supported (face numbers are 0-based)"
+        );
     }
 }

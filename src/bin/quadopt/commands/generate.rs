@@ -2,6 +2,7 @@
 
 use crate::fail::Fail;
 use crate::mesh_files::MeshWriter;
+use crate::plural::count;
 use crate::stdout::report_on_stderr_if_written_to_stdout;
 use quadopt::Error;
 use quadopt::io::{Format, MeshData};
@@ -30,10 +31,10 @@ pub fn generate(output: &Path, format: Option<Format>, spec: &Synthetic) -> Resu
     report_on_stderr_if_written_to_stdout(output);
     let q = mesh.quality();
     outln!(
-        "wrote {}: {} vertices, {} quads; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",
+        "wrote {}: {}, {}; scaled Jacobian min {:.4}, avg {:.4}, {} inverted",
         output.display(),
-        mesh.points().len(),
-        mesh.quads().len(),
+        count(mesh.points().len(), "vertex", "vertices"),
+        count(mesh.quads().len(), "quad", "quads"),
         q.min,
         q.avg,
         q.inverted

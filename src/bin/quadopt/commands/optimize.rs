@@ -8,6 +8,7 @@ use crate::json::{report_json, stats_json};
 use crate::mesh_files::{Loaded, MeshWriter, load};
 use crate::picture;
 use crate::picture_files::{PictureFormat, write_picture};
+use crate::plural::count;
 use crate::progress::run;
 use crate::stdout::{is_stdout, report_on_stderr_if_written_to_stdout};
 use quadopt::io::Format;
@@ -89,7 +90,12 @@ pub fn optimize(
         outln!("{v}");
         return Ok(());
     }
-    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!(
+        "{}: {}, {}",
+        input.display(),
+        count(data.points.len(), "vertex", "vertices"),
+        count(data.quads.len(), "quad", "quads")
+    );
     outln!("method {}, boundary {}", options.method.name(), options.boundary.name());
     outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
     let sweeps = report.max_min.map(|g| ("sweeps", g.before));
@@ -97,14 +103,13 @@ pub fn optimize(
         outln!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
     }
     outln!(
-        "{} iterations ({}), {:.3} s; {} corners, {} movable vertices, {} moved, {} quads reoriented",
-        report.iterations,
+        "{} ({}), {:.3} s; {}, {}, {moved} moved, {} reoriented",
+        count(report.iterations, "iteration", "iterations"),
         if report.converged { "converged" } else { "iteration cap" },
         report.seconds,
-        report.corners,
-        report.movable,
-        moved,
-        report.reoriented_quads
+        count(report.corners, "corner", "corners"),
+        count(report.movable, "movable vertex", "movable vertices"),
+        count(report.reoriented_quads, "quad", "quads")
     );
     let f = &report.fidelity;
     let modes: Vec<&str> = report.loop_modes.iter().map(|m| m.name()).collect();
@@ -130,8 +135,11 @@ pub fn optimize(
 
 /// One line per quad still inverted, with the reason.
 fn print_tangled(r: &Report) {
+    if !r.tangled.is_empty() {
+        outln!("still inverted (quad numbers are 0-based):");
+    }
     for t in r.tangled.iter().take(20) {
-        outln!("  quad {} still inverted: {}", t.quad, t.reason.describe());
+        outln!("  quad {}: {}", t.quad, t.reason.describe());
     }
     if r.tangled.len() > 20 {
         outln!("  ... and {} more", r.tangled.len() - 20);

@@ -7,6 +7,7 @@ use crate::fail::Fail;
 use crate::json::stats_json;
 use crate::mesh_files::{Loaded, MeshWriter, load};
 use crate::picture;
+use crate::plural::count;
 use crate::stdout::report_on_stderr_if_written_to_stdout;
 use quadopt::io::Format;
 use quadopt::{Options, QualityStats};
@@ -41,7 +42,12 @@ pub fn quality(
         outln!("{v}");
         return Ok(());
     }
-    outln!("{}: {} vertices, {} quads", input.display(), data.points.len(), data.quads.len());
+    outln!(
+        "{}: {}, {}",
+        input.display(),
+        count(data.points.len(), "vertex", "vertices"),
+        count(data.quads.len(), "quad", "quads")
+    );
     outln!("scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
     let most = h.iter().copied().max().unwrap_or(1).max(1);
     for (i, &count) in h.iter().enumerate() {

@@ -3,6 +3,7 @@
 
 use crate::fail::Fail;
 use crate::mesh_files::{Loaded, load};
+use crate::plural::count;
 use crate::progress::run;
 use quadopt::io::Format;
 use quadopt::{Optimizer, Options};
@@ -40,8 +41,8 @@ pub fn run_data_dir() -> Result<(), Fail> {
     let shown =
         std::env::current_dir().ok().and_then(|cwd| dir.strip_prefix(cwd).ok().map(Path::to_path_buf));
     outln!(
-        "quadopt: {} meshes in {}, method {}, boundary {}",
-        files.len(),
+        "quadopt: {} in {}, method {}, boundary {}",
+        count(files.len(), "mesh", "meshes"),
         shown.as_deref().unwrap_or(&dir).display(),
         options.method.name(),
         options.boundary.name()
@@ -90,7 +91,10 @@ pub fn run_data_dir() -> Result<(), Fail> {
         }
     }
     if failed > 0 {
-        return Err(Fail::Other(format!("{failed} of {} meshes could not be optimized", files.len())));
+        return Err(Fail::Other(format!(
+            "{failed} of {} could not be optimized",
+            count(files.len(), "mesh", "meshes")
+        )));
     }
     Ok(())
 }

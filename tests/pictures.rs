@@ -1,6 +1,7 @@
 //! Pictures from the CLI (`draw`, `draw --before-after`, `optimize --picture`): PNG and SVG
 //! of the same drawing have the same frame, the PNG's legend and border are where they should
-//! be, and the numbers a picture shows are the ones `quality` and `optimize` report.
+//! be, the numbers a picture shows are the ones `quality` and `optimize` report, inverted quads
+//! are marked in both formats, and the histogram's axes are labelled.
 #![cfg(feature = "cli")]
 
 use serde_json::Value;
@@ -43,6 +44,11 @@ fn svg_size(svg: &str) -> (u32, u32) {
     (attr("width"), attr("height"))
 }
 
+/// The bundled sample of the paper's mazewheel, with five inverted quads.
+fn mazewheel() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/mazewheel.vtk")
+}
+
 /// The width and height in a PNG's IHDR chunk.
 fn png_size(png: &[u8]) -> (u32, u32) {
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
@@ -60,6 +66,33 @@ fn texts(svg: &str) -> Vec<&str> {
     svg.split("<text")
         .skip(1)
         .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].trim())
+        .collect()
+}
+
+/// The `y` attribute and the text of an SVG's `<text>` elements, in order.
+fn placed_texts(svg: &str) -> Vec<(f64, &str)> {
+    svg.split("<text")
+        .skip(1)
+        .map(|t| {
+            let y = &t[t.find(" y=\"").unwrap() + 4..];
+            let y = y[..y.find('"').unwrap()].parse().unwrap();
+            (y, t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].trim())
+        })
+        .collect()
+}
+
+/// The values in the tooltips of an SVG's marks of inverted quads (`<path class="inverted">`
+/// with a `<title>`; the legend's sample has none).
+fn marked(svg: &str) -> Vec<f64> {
+    svg.split(r#"<path class="inverted""#)
+        .skip(1)
+        .filter_map(|p| {
+            // The element: up to its end tag, or its own end when it has no content.
+            let end = p.find("</path>").unwrap_or(p.len()).min(p.find("/>").unwrap_or(p.len()));
+            let p = &p[..end];
+            let t = &p[p.find("<title>")? + 7..p.find("</title>")?];
+            Some(t.strip_prefix("inverted: ").unwrap().parse().unwrap())
+        })
         .collect()
 }
 
@@ -184,5 +217,93 @@ fn optimize_picture_changes_nothing_else_and_bad_names_fail_before_the_run() {
     let r = quadopt(&["optimize", s(&input), "-o", s(&mesh), "--picture", "-"]);
     assert_eq!(r.status.code(), Some(2), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(r.stdout.is_empty() && !mesh.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn inverted_quads_are_outlined_and_hatched_in_svg_and_png() {
+    let dir = scratch("inverted");
+    let input = mazewheel();
+    let quality = json(quadopt(&["quality", s(&input), "--json"]));
+    let inverted = quality["inverted"].as_u64().unwrap() as usize;
+    assert_eq!(inverted, 5);
+    // SVG: one mark per inverted quad, each titled with its value, the worst one the minimum.
+    let svg = dir.join("p.svg");
+    ok(quadopt(&["draw", s(&input), "-o", s(&svg)]));
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    let values = marked(&svg);
+    assert_eq!(values.len(), inverted, "{values:?}");
+    assert!(values.iter().all(|&v| v <= 0.0), "{values:?}");
+    let worst = values.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!((worst - quality["min"].as_f64().unwrap()).abs() < 1e-4, "{worst} {}", quality["min"]);
+    // The legend shows the marking: a sample (without a title) and its label.
+    assert_eq!(svg.matches(r#"<path class="inverted""#).count(), inverted + 1);
+    assert!(texts(&svg).contains(&"inverted"));
+    // Before and after: the input's five, none in the result (which has none).
+    let ba = dir.join("ba.svg");
+    ok(quadopt(&["draw", "--before-after", s(&input), "-o", s(&ba)]));
+    assert_eq!(marked(&std::fs::read_to_string(&ba).unwrap()).len(), inverted);
+    // PNG: the marks are the only black in the mesh panel, below the title and left of the
+    // legend (edges are grey): some where quads are inverted, none where none are.
+    let dark_in_panel = |args: &[&str]| {
+        let (png, svg) = (dir.join("p.png"), dir.join("same.svg"));
+        ok(quadopt(&[&["draw", s(&input), "-o", s(&png)][..], args].concat()));
+        ok(quadopt(&[&["draw", s(&input), "-o", s(&svg)][..], args].concat()));
+        // The legend's left edge: the colour bar's, in the SVG of the same drawing.
+        let svg = std::fs::read_to_string(&svg).unwrap();
+        let bar = &svg[..svg.find(r#"fill="url(#sj)""#).unwrap()];
+        let bar = &bar[bar.rfind(r#"<rect x=""#).unwrap() + 9..];
+        let legend = bar[..bar.find('"').unwrap()].parse::<f64>().unwrap() as u32;
+        let pixmap = Pixmap::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+        let mut dark = 0;
+        for y in 48..pixmap.height() - 10 {
+            for x in 10..legend - 10 {
+                let c = pixmap.pixel(x, y).unwrap();
+                dark += usize::from(c.red() < 60 && c.green() < 60 && c.blue() < 60);
+            }
+        }
+        dark
+    };
+    let marked_pixels = dark_in_panel(&[]);
+    assert!(marked_pixels > 5 * 40, "{marked_pixels} dark pixels for 5 inverted quads");
+    assert_eq!(dark_in_panel(&["--optimized"]), 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_histogram_axes_are_titled_and_ticked_up_to_the_largest_share() {
+    let dir = scratch("axes");
+    let input = mazewheel();
+    let (svg, out) = (dir.join("ba.svg"), dir.join("out.vtk"));
+    ok(quadopt(&["draw", "--before-after", s(&input), "-o", s(&svg)]));
+    ok(quadopt(&["optimize", s(&input), "-o", s(&out)]));
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    let texts = placed_texts(&svg);
+    let at = |t: &str| texts.iter().position(|x| x.1 == t).unwrap_or_else(|| panic!("no {t:?} in {texts:?}"));
+    // The y axis's title heads the histogram; the x axis's title is the last text, under the
+    // bins' labels.
+    let (y_title, x_title) = (at("share of quads"), at("scaled Jacobian (&lt;=0: inverted)"));
+    assert_eq!(x_title, texts.len() - 1);
+    assert!(texts[x_title].0 > texts[at(".9-1")].0 && texts[at(".9-1")].0 > texts[y_title].0);
+    // Ticks: 0%, s%, 2s%, ... from the bottom up, evenly spaced, the top one the first at or
+    // above the largest share of a bin in either series.
+    let ticks: Vec<(f64, u32)> =
+        texts.iter().filter_map(|(y, t)| Some((*y, t.strip_suffix('%')?.parse().ok()?))).collect();
+    assert!((3..=6).contains(&ticks.len()), "{ticks:?}");
+    let step = ticks[1].1;
+    for (k, (y, v)) in ticks.iter().enumerate() {
+        assert_eq!(*v, k as u32 * step, "{ticks:?}");
+        let spacing = ticks[0].0 - ticks[1].0;
+        assert!(spacing > 0.0 && (ticks[0].0 - y - k as f64 * spacing).abs() < 0.2, "{ticks:?}");
+    }
+    let mut largest = 0.0f64;
+    for mesh in [&input, &out] {
+        let q = json(quadopt(&["quality", s(mesh), "--json"]));
+        let h: Vec<f64> = q["histogram"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+        let total: f64 = h.iter().sum();
+        largest = h.iter().fold(largest, |a, &n| a.max(n / total * 100.0));
+    }
+    let top = f64::from(ticks.last().unwrap().1);
+    assert!(top >= largest && top - f64::from(step) < largest, "ticks {ticks:?}, largest share {largest}%");
     std::fs::remove_dir_all(&dir).unwrap();
 }

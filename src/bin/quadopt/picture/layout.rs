@@ -1,11 +1,17 @@
-//! Where things go: the mesh panels on one scale, their captions, the legend to their right,
-//! and (before/after) the histogram underneath, every item inside the frame.
+//! Where things go: the mesh panels on one scale (inverted quads marked over them), their
+//! captions, the legend to their right, and (before/after) the histogram underneath with its
+//! axes labelled, every item inside the frame.
 
-use super::{Anchor, BIN_LABELS, Item, Picture, Quad, Rgb, TEXT, histogram, text_width};
+use super::{
+    Anchor, BIN_LABELS, Item, Picture, Quad, Rgb, TEXT, colour, hatch, histogram, is_inverted, text_width,
+};
 use glam::DVec2;
 use quadopt::{QuadMesh, QualityStats};
 
 const MARGIN: f32 = 20.0;
+/// The width of an inverted quad's outline and hatching: wider than any edge, so that an
+/// inverted quad is a visible dot even where quads are smaller than a pixel.
+const MARK_WIDTH: f32 = 1.5;
 /// Between two panels.
 const GAP: f32 = 40.0;
 /// The colour bar's height and width.
@@ -13,6 +19,12 @@ const BAR: (f32, f32) = (200.0, 20.0);
 /// The histogram's series.
 const INPUT: Rgb = Rgb(150, 150, 150);
 const OPTIMIZED: Rgb = Rgb(60, 110, 180);
+/// The histogram's plot height.
+const PLOT: f32 = 160.0;
+/// The steps between the histogram's ticks, in percent: the first that needs at most
+/// `MAX_TICK_STEPS` of them to reach the largest share.
+const TICK_STEPS: [u32; 4] = [2, 5, 10, 20];
+const MAX_TICK_STEPS: u32 = 5;
 
 /// One mesh and its title line.
 pub fn single(mesh: &QuadMesh, title: &str) -> Picture {
@@ -103,14 +115,20 @@ impl Builder {
             left.push(x0);
             let points = m.points();
             let map = |p: DVec2| [x0 + ((p.x - lo.x) * scale) as f32, top + ((hi.y - p.y) * scale) as f32];
-            let quads = m
-                .quads()
-                .iter()
-                .zip(m.quality_values())
-                .map(|(q, sj)| Quad { corners: q.map(|v| map(points[v as usize])), sj: sj as f32 })
-                .collect();
+            let mut quads = Vec::with_capacity(m.quads().len());
+            let mut marks = Vec::new();
+            for (q, sj) in m.quads().iter().zip(m.quality_values()) {
+                let corners = q.map(|v| map(points[v as usize]));
+                quads.push(Quad { corners, sj: sj as f32 });
+                if is_inverted(sj) {
+                    marks.push(hatch::mark(corners, Some(format!("inverted: {sj:.4}"))));
+                }
+            }
             let stroke = 0.6f64.min(0.15 * size / (m.quads().len() as f64).sqrt().max(1.0)) as f32;
             self.push(Item::Quads { quads, stroke });
+            if !marks.is_empty() {
+                self.push(Item::Marks { marks, width: MARK_WIDTH });
+            }
         }
         let right = MARGIN + meshes.len() as f32 * (w + GAP) - GAP;
         self.right = self.right.max(right);
@@ -118,7 +136,8 @@ impl Builder {
         Panels { left, top, right, bottom: top + h }
     }
 
-    /// The colour scale, its title over it, at (`x`, `y`).
+    /// The colour scale, its title over it, at (`x`, `y`), and under it a sample of how an
+    /// inverted quad is marked.
     fn legend(&mut self, x: f32, y: f32) {
         self.text(x, y, "scaled");
         self.text(x, y + TEXT as f32 + 4.0, "Jacobian");
@@ -128,22 +147,38 @@ impl Builder {
             let tick = top + (1.0 - v) / 2.0 * BAR.0;
             self.text(x + BAR.1 + 8.0, tick - TEXT as f32 / 2.0, label);
         }
+        let (sy, side) = (top + BAR.0 + 2.0 * TEXT as f32, BAR.1);
+        self.push(Item::Rect {
+            x,
+            y: sy,
+            w: side,
+            h: side,
+            fill: colour(-0.25),
+            stroke: None,
+            tooltip: None,
+        });
+        let corners = [[x, sy], [x + side, sy], [x + side, sy + side], [x, sy + side]];
+        self.push(Item::Marks { marks: vec![hatch::mark(corners, None)], width: MARK_WIDTH });
+        self.text(x + side + 8.0, sy + (side - TEXT as f32) / 2.0, "inverted");
     }
 
     /// The share of quads in each bin of [`histogram`], input and optimized, below what is there
-    /// and as wide as the picture (at least as wide as its labels need).
+    /// and as wide as the picture (at least as wide as its labels need): the y axis titled over
+    /// its ticks (in percent, from 0 to the largest share rounded up to a tick), the series'
+    /// swatches on the title's line, the bins' labels under the bars and the x axis's title
+    /// under them.
     fn histogram(&mut self, values: &[Vec<f64>; 2]) {
         let counts = values.each_ref().map(|v| histogram(v));
         let shares: Vec<[f64; 11]> =
             counts.iter().zip(values).map(|(c, v)| c.map(|n| n as f64 / v.len().max(1) as f64)).collect();
-        // The axis's top: the largest share rounded up to 10%.
-        let top_share =
-            (shares.iter().flatten().fold(0.0f64, |a, &b| a.max(b)) * 10.0).ceil().max(1.0) / 10.0;
+        let largest = shares.iter().flatten().fold(0.0f64, |a, &b| a.max(b));
+        let (step, ticks) = ticks(largest);
+        let top_share = f64::from(step * ticks) / 100.0;
         let y = self.bottom;
-        let heading = "share of quads by scaled Jacobian (<=0: inverted)";
-        self.text(MARGIN, y, heading);
-        // Swatches for the two series, on the heading's line, after it.
-        let mut sx = MARGIN + text_width(heading, TEXT) + 30.0;
+        let title = "share of quads";
+        self.text(MARGIN, y, title);
+        // Swatches for the two series, on the title's line, after it.
+        let mut sx = MARGIN + text_width(title, TEXT) + 30.0;
         for (name, fill) in [("input", INPUT), ("optimized", OPTIMIZED)] {
             self.push(Item::Rect {
                 x: sx,
@@ -157,21 +192,33 @@ impl Builder {
             self.text(sx + TEXT as f32 + 6.0, y, name);
             sx += TEXT as f32 + 6.0 + text_width(name, TEXT) + 20.0;
         }
-        let axis_label = format!("{:.0}%", top_share * 100.0);
-        let x0 = MARGIN + text_width(&axis_label, TEXT) + 10.0;
+        let widest = format!("{}%", step * ticks);
+        let x0 = MARGIN + text_width(&widest, TEXT) + 14.0;
         let x1 = self.right.max(x0 + 11.0 * 96.0);
-        let (y0, y1) = (y + 2.0 * TEXT as f32 + 10.0, y + 2.0 * TEXT as f32 + 170.0);
-        self.text(MARGIN, y0 - TEXT as f32 / 2.0, &axis_label);
-        self.text(MARGIN, y1 - TEXT as f32 / 2.0, &format!("{:>w$}", "0%", w = axis_label.len()));
-        self.push(Item::Rect {
-            x: x0,
-            y: y1,
-            w: x1 - x0,
-            h: 1.0,
-            fill: Rgb::BLACK,
+        let (y0, y1) = (y + 2.0 * TEXT as f32 + 10.0, y + 2.0 * TEXT as f32 + 10.0 + PLOT);
+        let rule = |x: f32, y: f32, w: f32, h: f32, fill: Rgb| Item::Rect {
+            x,
+            y,
+            w,
+            h,
+            fill,
             stroke: None,
             tooltip: None,
-        });
+        };
+        for t in 0..=ticks {
+            let ty = y1 - t as f32 / ticks as f32 * PLOT;
+            if t > 0 {
+                self.push(rule(x0, ty, x1 - x0, 1.0, Rgb::GRID));
+            }
+            self.push(rule(x0 - 5.0, ty, 5.0, 1.0, Rgb::BLACK));
+            self.push(Item::Text {
+                x: x0 - 8.0,
+                y: ty - TEXT as f32 / 2.0,
+                size: TEXT,
+                anchor: Anchor::End,
+                text: format!("{}%", step * t),
+            });
+        }
         let group = (x1 - x0) / 11.0;
         let bar = group * 0.36;
         for (bin, label) in BIN_LABELS.iter().enumerate() {
@@ -179,7 +226,7 @@ impl Builder {
             for (series, (name, fill)) in [("input", INPUT), ("optimized", OPTIMIZED)].into_iter().enumerate()
             {
                 let share = shares[series][bin];
-                let h = ((share / top_share) as f32 * (y1 - y0)).max(0.0);
+                let h = ((share / top_share) as f32 * PLOT).max(0.0);
                 let range = if bin == 0 { "<=0".to_string() } else { bin_range(bin) };
                 self.push(Item::Rect {
                     x: gx + group * 0.14 + series as f32 * bar,
@@ -199,6 +246,16 @@ impl Builder {
                 text: label.to_string(),
             });
         }
+        // The axes, over the bars' feet.
+        self.push(rule(x0, y1, x1 - x0, 1.0, Rgb::BLACK));
+        self.push(rule(x0, y0, 1.0, PLOT + 1.0, Rgb::BLACK));
+        self.push(Item::Text {
+            x: (x0 + x1) / 2.0,
+            y: y1 + 8.0 + TEXT as f32 + 10.0,
+            size: TEXT,
+            anchor: Anchor::Middle,
+            text: "scaled Jacobian (<=0: inverted)".to_string(),
+        });
     }
 
     fn finish(self) -> Picture {
@@ -208,6 +265,17 @@ impl Builder {
             items: self.items,
         }
     }
+}
+
+/// The histogram's ticks for a largest share of `largest` (in [0, 1]): the step in percent
+/// and the number of steps, the first of [`TICK_STEPS`] that reaches `largest` in at most
+/// [`MAX_TICK_STEPS`] steps (at least one step).
+fn ticks(largest: f64) -> (u32, u32) {
+    let percent = largest.clamp(0.0, 1.0) * 100.0;
+    // A share a rounding error above a tick (0.6 as 60.000000000000007 %) stays at that tick.
+    let steps = |step: u32| ((percent / f64::from(step) - 1e-9).ceil() as u32).max(1);
+    let step = TICK_STEPS.into_iter().find(|&s| steps(s) <= MAX_TICK_STEPS).unwrap_or(TICK_STEPS[3]);
+    (step, steps(step))
 }
 
 /// "(a, b]" for bin `bin` >= 1 of [`histogram`].
@@ -264,6 +332,64 @@ mod tests {
         )
         .unwrap();
         assert_inside(&before_after(&tall, &tall, "t", ["before", "after"]));
+    }
+
+    /// A 2x2 grid whose centre is pushed into the upper right quad, which is inverted.
+    fn one_inverted() -> QuadMesh {
+        let mut points: Vec<DVec2> = (0..9).map(|i| DVec2::new(f64::from(i % 3), f64::from(i / 3))).collect();
+        points[4] = DVec2::new(1.9, 1.9);
+        let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+        QuadMesh::new(points, quads, None).unwrap()
+    }
+
+    /// The marks of a picture's mesh panels (those with a tooltip, not the legend's sample).
+    fn marks(p: &Picture) -> Vec<&super::super::Mark> {
+        p.items
+            .iter()
+            .filter_map(|i| if let Item::Marks { marks, .. } = i { Some(marks) } else { None })
+            .flatten()
+            .filter(|m| m.tooltip.is_some())
+            .collect()
+    }
+
+    #[test]
+    fn every_inverted_quad_is_marked_and_no_other() {
+        let m = one_inverted();
+        let values = m.quality_values();
+        let inverted: Vec<usize> = (0..values.len()).filter(|&q| values[q] <= 0.0).collect();
+        assert_eq!(inverted, [3], "{values:?}");
+        let p = single(&m, "t");
+        let marks = marks(&p);
+        assert_eq!(marks.len(), 1);
+        assert_eq!(marks[0].tooltip.as_deref(), Some(format!("inverted: {:.4}", values[3]).as_str()));
+        assert!(!marks[0].hatch.is_empty());
+        // The mark is the inverted quad's outline, drawn after (over) the quads.
+        let quads = p.items.iter().position(|i| matches!(i, Item::Quads { .. })).unwrap();
+        let Item::Quads { quads: drawn, .. } = &p.items[quads] else { unreachable!() };
+        assert_eq!(marks[0].outline, drawn[3].corners);
+        assert!(p.items[quads + 1..].iter().any(|i| matches!(i, Item::Marks { .. })));
+        // Before and after: the marks of both panels; a valid mesh has none but the legend's.
+        assert_eq!(self::marks(&before_after(&m, &m, "t", ["a", "b"])).len(), 2);
+        assert!(self::marks(&single(&jittered_grid(4), "t")).is_empty());
+        assert_inside(&p);
+    }
+
+    #[test]
+    fn the_histogram_axis_ticks_reach_the_largest_share_in_at_most_five_steps() {
+        assert_eq!(ticks(0.7), (20, 4));
+        assert_eq!(ticks(0.6), (20, 3));
+        assert_eq!(ticks(1.0), (20, 5));
+        assert_eq!(ticks(0.5), (10, 5));
+        assert_eq!(ticks(0.25), (5, 5));
+        assert_eq!(ticks(0.26), (10, 3));
+        assert_eq!(ticks(0.1), (2, 5));
+        assert_eq!(ticks(1.0 / 11.0), (2, 5));
+        assert_eq!(ticks(0.0), (2, 1));
+        for k in 1..=1000 {
+            let share = f64::from(k) / 1000.0;
+            let (step, n) = ticks(share);
+            assert!(n <= 5 && f64::from(step * n) >= share * 100.0 - 1e-9, "{share}: {step} x {n}");
+        }
     }
 
     #[test]

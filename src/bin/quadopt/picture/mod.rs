@@ -1,12 +1,14 @@
 //! Pictures of quad meshes coloured by scaled Jacobian (red for 0 and below, white for 1, as
-//! in the paper's figures): one mesh ([`layout::single`]), or input and output side by side
-//! on one colour scale with a histogram of both ([`layout::before_after`]).
+//! in the paper's figures), inverted quads outlined and hatched ([`hatch`]): one mesh
+//! ([`layout::single`]), or input and output side by side on one colour scale with a
+//! histogram of both ([`layout::before_after`]).
 //!
 //! A layout builds a [`Picture`], a display list in pixels; [`svg`] and [`png`] render the same
 //! list, so both formats show the same thing. Text is measured with the PNG renderer's 8x8
 //! bitmap font (a glyph cell of `size` pixels a character); SVG's monospace glyphs are
 //! narrower, so a layout that keeps every item inside the frame keeps it there in both.
 
+pub mod hatch;
 pub mod layout;
 pub mod png;
 pub mod svg;
@@ -18,6 +20,16 @@ pub struct Rgb(pub u8, pub u8, pub u8);
 impl Rgb {
     pub const BLACK: Rgb = Rgb(0, 0, 0);
     pub const EDGE: Rgb = Rgb(0x55, 0x55, 0x55);
+    /// The outline and hatching of inverted quads.
+    pub const MARK: Rgb = Rgb::BLACK;
+    /// The histogram's grid lines.
+    pub const GRID: Rgb = Rgb(0xdd, 0xdd, 0xdd);
+}
+
+/// Whether a quad of scaled Jacobian `sj` is inverted: at or below 0 (as
+/// [`quadopt::QualityStats::inverted`] counts), or NaN.
+pub fn is_inverted(sj: f64) -> bool {
+    !(sj > 0.0)
 }
 
 /// The fill colour of a scaled Jacobian: dark red at -1, red at 0, white at 1.
@@ -39,11 +51,22 @@ pub struct Quad {
     pub sj: f32,
 }
 
-/// Where a text's `x` is: its left end, or its centre.
+/// The marking of an inverted quad ([`hatch::mark`]): its outline and the hatch lines inside
+/// it, in picture coordinates.
+#[derive(Clone, Debug)]
+pub struct Mark {
+    pub outline: [[f32; 2]; 4],
+    pub hatch: Vec<[[f32; 2]; 2]>,
+    /// SVG's `<title>` (PNG ignores it); none for the legend's sample.
+    pub tooltip: Option<String>,
+}
+
+/// Where a text's `x` is: its left end, its centre, or its right end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Anchor {
     Start,
     Middle,
+    End,
 }
 
 /// One thing drawn, in the order given (later items over earlier ones).
@@ -51,6 +74,8 @@ pub enum Anchor {
 pub enum Item {
     /// A mesh: every quad filled by its colour, edges `stroke` pixels wide.
     Quads { quads: Vec<Quad>, stroke: f32 },
+    /// Inverted quads' marks, outline and hatch lines `width` pixels wide in [`Rgb::MARK`].
+    Marks { marks: Vec<Mark>, width: f32 },
     /// A rectangle; `tooltip` is SVG's `<title>` (PNG ignores it).
     Rect { x: f32, y: f32, w: f32, h: f32, fill: Rgb, stroke: Option<Rgb>, tooltip: Option<String> },
     /// The colour scale from 1 at the top to -1 at the bottom.
@@ -87,12 +112,31 @@ impl Item {
                 let s = stroke / 2.0;
                 (b.0 - s, b.1 - s, b.2 + s, b.3 + s)
             }
+            Item::Marks { marks, width } => {
+                let mut b = (f32::INFINITY, f32::INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY);
+                for p in marks.iter().flat_map(|m| m.outline) {
+                    b = (b.0.min(p[0]), b.1.min(p[1]), b.2.max(p[0]), b.3.max(p[1]));
+                }
+                let s = width / 2.0;
+                (b.0 - s, b.1 - s, b.2 + s, b.3 + s)
+            }
             Item::Rect { x, y, w, h, .. } | Item::ColourBar { x, y, w, h } => (*x, *y, x + w, y + h),
             Item::Text { x, y, size, anchor, text } => {
                 let w = text_width(text, *size);
-                let left = if *anchor == Anchor::Middle { x - w / 2.0 } else { *x };
+                let left = anchor.left(*x, w);
                 (left, *y, left + w, y + *size as f32)
             }
+        }
+    }
+}
+
+impl Anchor {
+    /// The left end of a text `width` pixels wide anchored at `x`.
+    pub fn left(self, x: f32, width: f32) -> f32 {
+        match self {
+            Anchor::Start => x,
+            Anchor::Middle => x - width / 2.0,
+            Anchor::End => x - width,
         }
     }
 }
@@ -103,7 +147,7 @@ impl Item {
 pub fn histogram(values: &[f64]) -> [usize; 11] {
     let mut counts = [0; 11];
     for &v in values {
-        let bin = if v.is_nan() || v <= 0.0 { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
+        let bin = if is_inverted(v) { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
         counts[bin] += 1;
     }
     counts

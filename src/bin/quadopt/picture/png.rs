@@ -2,7 +2,7 @@
 //! public-domain bitmap font (font8x8), scaled by whole pixels: no system font is needed, and
 //! every machine draws the same picture.
 
-use super::{Anchor, Item, Picture, Rgb, colour};
+use super::{Item, Picture, Rgb, colour};
 use tiny_skia::{
     Color, FillRule, GradientStop, LineJoin, LinearGradient, Paint, PathBuilder, Pixmap, Point,
     PremultipliedColorU8, Rect, SpreadMode, Stroke, Transform,
@@ -49,6 +49,28 @@ pub fn render(picture: &Picture) -> Result<Vec<u8>, String> {
                     pixmap.stroke_path(&path, &paint(Rgb::EDGE), &s, id, None);
                 }
             }
+            Item::Marks { marks, width } => {
+                // Outlines and hatch lines in one stroked path.
+                let mut pb = PathBuilder::new();
+                for m in marks {
+                    for (i, &[x, y]) in m.outline.iter().enumerate() {
+                        if i == 0 {
+                            pb.move_to(x, y);
+                        } else {
+                            pb.line_to(x, y);
+                        }
+                    }
+                    pb.close();
+                    for [[xa, ya], [xb, yb]] in &m.hatch {
+                        pb.move_to(*xa, *ya);
+                        pb.line_to(*xb, *yb);
+                    }
+                }
+                if let Some(path) = pb.finish() {
+                    let s = Stroke { width: *width, line_join: LineJoin::Round, ..Stroke::default() };
+                    pixmap.stroke_path(&path, &paint(Rgb::MARK), &s, id, None);
+                }
+            }
             Item::Rect { x, y, w, h, fill, stroke, .. } => {
                 if let Some(r) = Rect::from_xywh(*x, *y, *w, *h) {
                     pixmap.fill_rect(r, &paint(*fill), id, None);
@@ -92,8 +114,7 @@ pub fn render(picture: &Picture) -> Result<Vec<u8>, String> {
                 }
             }
             Item::Text { x, y, size, anchor, text } => {
-                let width = super::text_width(text, *size);
-                let left = if *anchor == Anchor::Middle { x - width / 2.0 } else { *x };
+                let left = anchor.left(*x, super::text_width(text, *size));
                 glyphs(&mut pixmap, left.round() as i64, y.round() as i64, (*size / 8).max(1) as i64, text);
             }
         }

@@ -1,5 +1,6 @@
 //! A [`Picture`] as SVG text: quads as paths with their scaled Jacobian as a tooltip, the
-//! colour bar as a gradient, text in the viewer's monospace font.
+//! marks of inverted quads as paths of class `inverted`, the colour bar as a gradient, text in
+//! the viewer's monospace font.
 
 use super::{Anchor, Item, Picture, Rgb, colour};
 use std::fmt::Write;
@@ -39,6 +40,34 @@ pub fn render(picture: &Picture) -> String {
                 }
                 let _ = writeln!(s, "</g>");
             }
+            Item::Marks { marks, width } => {
+                let _ = writeln!(
+                    s,
+                    r#"<g fill="none" stroke="{}" stroke-width="{width:.3}" stroke-linejoin="round">"#,
+                    hex(Rgb::MARK)
+                );
+                for m in marks {
+                    let mut d = String::new();
+                    for (i, [x, y]) in m.outline.iter().enumerate() {
+                        let _ = write!(d, "{}{x:.2},{y:.2} ", if i == 0 { "M" } else { "L" });
+                    }
+                    d.push('Z');
+                    for [[xa, ya], [xb, yb]] in &m.hatch {
+                        let _ = write!(d, " M{xa:.2},{ya:.2} L{xb:.2},{yb:.2}");
+                    }
+                    let _ = match &m.tooltip {
+                        Some(t) => {
+                            writeln!(
+                                s,
+                                r#"<path class="inverted" d="{d}"><title>{}</title></path>"#,
+                                escape(t)
+                            )
+                        }
+                        None => writeln!(s, r#"<path class="inverted" d="{d}"/>"#),
+                    };
+                }
+                let _ = writeln!(s, "</g>");
+            }
             Item::Rect { x, y, w, h, fill, stroke, tooltip } => {
                 let stroke =
                     stroke.map(|c| format!(r#" stroke="{}" stroke-width="0.5""#, hex(c))).unwrap_or_default();
@@ -69,7 +98,11 @@ pub fn render(picture: &Picture) -> String {
             }
             Item::Text { x, y, size, anchor, text } => {
                 let baseline = y + 0.8 * *size as f32;
-                let anchor = if *anchor == Anchor::Middle { r#" text-anchor="middle""# } else { "" };
+                let anchor = match anchor {
+                    Anchor::Start => "",
+                    Anchor::Middle => r#" text-anchor="middle""#,
+                    Anchor::End => r#" text-anchor="end""#,
+                };
                 let _ = writeln!(
                     s,
                     r#"<text x="{x:.1}" y="{baseline:.1}" font-family="monospace" font-size="{size}"{anchor}>{}</text>"#,

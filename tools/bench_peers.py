@@ -1,24 +1,50 @@
 #!/usr/bin/env python3
-"""Side-by-side comparison of quadopt with gmsh's 2D smoothers and with DMO, on the same meshes.
+"""Side-by-side comparison of quadopt's presets with gmsh's 2D smoothers, GETMe and DMO, on the same meshes.
 
-Usage:  pip install -r tools/requirements.txt numpy        # gmsh 4.15.2 (pinned) and numpy
+Usage:  python3 -m venv VENV && VENV/bin/pip install -r tools/requirements.txt numpy   # gmsh 4.15.2 (pinned)
         cargo build --release
-        python3 tools/bench_peers.py                    # 10k, 200k, 1M plates, data/, Mesquite
-        python3 tools/bench_peers.py --skip-1m --json results.json
-        python3 tools/bench_peers.py --sizes none --only plate_2holes    # sample meshes only
+        VENV/bin/python tools/bench_peers.py --sizes 10k,200k     # the benchmark: data/, Mesquite, two plates
+        VENV/bin/python tools/bench_peers.py --json results.json  # also the 1M plate; rows and dominance as JSON
+        VENV/bin/python tools/bench_peers.py --sizes none --only plate_2holes     # sample meshes only
+        VENV/bin/python tools/bench_peers.py --from-json results.json --wide      # an earlier run, one row per mesh
+        VENV/bin/python tools/bench_peers.py --sizes none --dominance-count       # the count alone, one JSON line
+A quadopt without `--effort`: give each preset's flags instead, e.g.
+        --preset-flags "fast=--no-maxmin --max-iter 10" --preset-flags balanced= --preset-flags best=
 
-The table goes to stdout, notes (skipped meshes and tools, checks that failed) to stderr.
-Columns: mesh, quads, tool ("input" is the mesh as given), seconds (median wall-clock time of
-the smoothing step alone, no meshing or file IO), CPU s (CPU seconds of that step, all threads:
-gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's CPU time minus
-that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
-fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
-all quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
-edge ratio of a quad; see "thin" below), and quadopt's time divided by the
-tool's, wall-clock and CPU (below 1: quadopt is faster; no CPU ratio where either CPU time is
-under 1 ms, the noise of process accounting). On a machine shared with other work the
-CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
-the notes).
+The table goes to stdout, then the dominance count (below); notes (skipped meshes and tools,
+checks that failed) go to stderr. Columns: mesh, quads, tool ("input" is the mesh as given; a
+peer; "quadopt NAME" per preset), seconds (the median over the repeats of the tool's own timer
+of the smoothing step alone, no meshing or file IO; see each tool below), CPU s (CPU seconds of
+that step, all threads: gmsh's exactly, around the optimize call; quadopt's and DMO's as the
+process's CPU time minus that of a run of the same program that only reads, sets up and writes:
+quadopt `--max-iter 1 --boundary fixed --no-untangle --no-maxmin`, DMO `--iters 0`; none for
+GETMe, whose driver has no such run), min SJ / avg SJ (minimum and mean scaled Jacobian over all
+quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
+edge ratio of a quad; "thin" after it: see below), and quadopt's time divided by the peer's,
+wall-clock and CPU, where quadopt is the balanced preset (the default; the first preset run if
+balanced was not) (below 1: quadopt is faster; no CPU ratio where either CPU time is missing or
+under 1 ms, the noise of process accounting). "(!)" after a tool marks an output that failed a
+check (see the notes). --wide gives one row per mesh: per tool "min / avg (inverted), CPU s"
+(GETMe: its own seconds, "wall") and the CPU ratio.
+
+Dominance
+---------
+A peer run (one gmsh optimizer, GETMe or DMO on one mesh) is DOMINATED when some quadopt preset
+on the same mesh has
+  * seconds <= the peer's (each tool's own timer of the smoothing step, medians; a time under
+    1 ms counts as 1 ms, the timers' noise),
+  * min >= the peer's min - 1e-3 and avg >= the peer's avg - 1e-3,
+  * inverted <= the peer's inverted,
+  * and an output that passed the checks.
+Peers run on one thread, quadopt on all cores as users run it. A peer output that is thin (its
+smallest edge ratio below a tenth of the input's: it squashed quads into thin rectangles, which
+the scaled Jacobian scores well) is left out of the count. Printed after the table: per preset,
+how many of the counted peer runs it dominates; in all, how many some preset dominates, out of
+how many counted (and the thin ones left out); then each peer run NOT dominated, with the peer's
+and every preset's time / min / avg / inverted and what each preset misses (slower, min, avg,
+inverted, failed check). --json holds it as "dominance" (with the same lists); --from-json
+recomputes it from the rows (a file written before the presets has one preset, "quadopt");
+--dominance-count prints {"dominated", "counted", "thin", "peer_runs", "per_preset"} alone.
 
 Meshes
 ------
@@ -27,11 +53,11 @@ Meshes
   Blossom recombination in its all-quad form (Mesh.RecombinationAlgorithm = 3: triangulate at
   twice the size, recombine, then split every element into quads; plain Blossom leaves a few
   triangles at these sizes), no smoothing (Mesh.Smoothing = 0), one thread, fixed seed; the mesh
-  size is chosen for about 10k, 200k or 1M quads (--sizes). This gives inputs like the issue's
-  reference plate (min/avg scaled Jacobian about 0.2/0.87).
+  size is chosen for about 10k, 200k or 1M quads (--sizes, default 10k,200k,1m). This gives
+  inputs like the issue's reference plate (min/avg scaled Jacobian about 0.2/0.87).
 * every mesh in data/ and in the Mesquite test meshes (../shared/meshes/mesquite relative to the
-  repository, or --mesquite DIR), when quadopt can read it (curved surfaces, triangles: skipped
-  with a note).
+  repository, or --mesquite DIR), when quadopt can read it: the planar ones (curved surfaces
+  and meshes with triangles are skipped with a note).
 
 Tools (each on the same input nodes; "held" = never moved)
 ----------------------------------------------------------
@@ -45,36 +71,48 @@ Tools (each on the same input nodes; "held" = never moved)
   points too (so they are held), quads are given in the surface's orientation. Between the
   optimizers (and between repeats) every node is put back with `setNode`, and the script checks
   that the coordinates are bit-identical to the file's before each run. Only the optimize call
-  is timed. Why a plane surface: on a discrete surface (a mesh merged or added as is) none of
-  the three optimizers moves any node, even with force=True. Checked on the 2k-quad plate: the
-  rebuilt surface gives UntangleMeshGeometry's result of the meshing session to 1e-16, and
-  Laplace2D's and Relocate2D's within 0.03 on the minimum and 3e-4 on the average (they visit
-  the nodes in another order). UntangleMeshGeometry is skipped above --untangle-max-quads
-  (default 50000; it took 50 CPU-s on 13.7k quads and did not finish in 10 min on 186k).
-* quadopt: `quadopt optimize IN -o OUT --json` with the default options (boundary `auto`: the
-  boundary may slide along itself or snap; `fixed` vertices held); the time is the run's own
-  `seconds` (no file IO). With --quadopt-fixed also a `--boundary fixed` run, the setting that
-  holds exactly what the peers hold.
+  is timed (time.perf_counter). Why a plane surface: on a discrete surface (a mesh merged or
+  added as is) none of the three optimizers moves any node, even with force=True. Checked on the
+  2k-quad plate: the rebuilt surface gives UntangleMeshGeometry's result of the meshing session
+  to 1e-16, and Laplace2D's and Relocate2D's within 0.03 on the minimum and 3e-4 on the average
+  (they visit the nodes in another order). UntangleMeshGeometry is skipped above
+  --untangle-max-quads (default 50000; it took 50 CPU-s on 13.7k quads and did not finish in
+  10 min on 186k).
+* GETMe (Vartziotis and Wipper): the driver in --getme DIR (default ../shared/peers/getme, or
+  $QUADOPT_GETME_DIR; GPL, so it is built, never copied into this repository), built once with
+  its build.sh into --out-dir, run as `getme_smooth getme IN OUT` on a valid input and
+  `getme_smooth untangle+getme IN OUT` on one with inverted quads (or one GETMe's own test finds
+  invalid), boundary and `fixed` vertices held. Its time is the driver's `seconds`: its own
+  timer around the smoothing calls (GETMe's copy of the mesh and its quality evaluations
+  included; no file IO, no set-up of the polygonal mesh); GETMe's internal stopwatches
+  (`getme_seconds`, loops only) go to the JSON. One thread: built without TBB, its
+  std::execution::par_unseq calls run serially. Skipped with a note when it cannot be built.
 * DMO (Zint and Grosso, IMR 2018): the driver in --dmo DIR (default ../shared/peers/dmo, or
   $QUADOPT_DMO_DIR), built once with its build.sh into --out-dir, run as
   `OMP_NUM_THREADS=1 dmo_smooth --metric vsj IN OUT` (Verdict's quad scaled Jacobian, 100
   sweeps, boundary and `fixed` vertices held); its time is the driver's `seconds` (set-up and
-  solve, no file IO). Skipped with a note when the directory or a compiler is missing.
+  solve, no file IO). Skipped with a note when the directory or a compiler is missing, and
+  above --dmo-max-quads.
+* quadopt, once per preset in --presets (default fast,balanced,best): `quadopt optimize IN -o
+  OUT --json --effort NAME`, or the flags --preset-flags NAME=FLAGS gives for that preset, with
+  the default options otherwise (boundary `auto`: the boundary may slide along itself or snap;
+  `fixed` vertices held); its time is the report's own `seconds` (no file IO). A note says when
+  the report's "effort" is not the preset asked for. With --quadopt-fixed also a `--boundary
+  fixed` run of every preset (the setting that holds exactly what the peers hold; not counted
+  in the dominance).
 
 Every output is evaluated by ONE evaluator (class Evaluator: a numpy implementation of quadopt's
 signed scaled Jacobian, which equals Verdict's quad scaled Jacobian on every quad that is not
 inverted), always against the input's orientation, so min, avg and inverted (quads with scaled
 Jacobian <= 0) mean the same for every tool. `quadopt quality --json` is run on every file as a
 cross-check; where the two differ (only when a tool flipped a whole component, since quadopt
-orients each file by itself) a note says so. The script also checks, per
-output, that the quads are the input's and that every held vertex is bit-identical to the
-input; a violation is printed as a note and flagged in the table. Times are medians over
---repeat runs (default 3, or 1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1;
-a run that took more than 20 s is not repeated); the gmsh runs of one optimizer must give
-bit-identical coordinates on every repeat. The scaled Jacobian does not see aspect ratio, so the
-wide table marks an output "(thin R)" when its smallest edge ratio R (shortest over longest edge
-of a quad) is below a tenth of the input's: it squashed quads into thin rectangles that score
-well.
+orients each file by itself) a note says so. The script also checks, per output, that the quads
+are the input's and that every held vertex is bit-identical to the input; a violation is
+printed as a note and flagged in the table. Times are medians over --repeat runs (default 3, or
+1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1; a run that took more than 20 s
+is not repeated); the gmsh runs of one optimizer must give bit-identical coordinates on every
+repeat. The JSON file holds {"gmsh": version, "presets": {name: flags}, "rows": [...],
+"dominance": {...}}.
 """
 
 import argparse

@@ -100,6 +100,8 @@ Tools (each on the same input nodes; "held" = never moved)
   the report's "effort" is not the preset asked for. With --quadopt-fixed also a `--boundary
   fixed` run of every preset (the setting that holds exactly what the peers hold; not counted
   in the dominance).
+GETMe and DMO read this script's copy of a file mesh (the same nodes bit for bit, checked):
+their readers trust a CELLS size that some files get wrong (Mesquite's unstrquad).
 
 Every output is evaluated by ONE evaluator (class Evaluator: a numpy implementation of quadopt's
 signed scaled Jacobian, which equals Verdict's quad scaled Jacobian on every quad that is not
@@ -574,6 +576,18 @@ def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
 # --------------------------------------------------------------------------------------------
 
 
+def peer_copy(mesh, path):
+    """Writes `mesh` to path in this script's plain layout and checks that it reads back bit for
+    bit. GETMe and DMO get this copy of a file mesh: their readers trust a CELLS size that some
+    files get wrong (Mesquite's unstrquad), which this script's reader walks around."""
+    write_vtk(path, mesh)
+    back = read_vtk(path)
+    same_fixed = (back.fixed is None) == (mesh.fixed is None) and (mesh.fixed is None or np.array_equal(back.fixed, mesh.fixed))
+    if not (np.array_equal(back.points, mesh.points) and np.array_equal(back.quads, mesh.quads) and same_fixed):
+        raise RuntimeError("the peers' copy of the mesh differs from the file")
+    return path
+
+
 def quality(quadopt, path):
     r = subprocess.run([quadopt, "quality", "--json", path], capture_output=True, text=True)
     if r.returncode != 0:
@@ -925,12 +939,13 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
     rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted", "edge_ratio")}))
 
     runs = []  # (tool name, result dict, vertices that must not move)
+    peer_path = path if source[0] == "plate" else peer_copy(mesh, os.path.join(out_dir, f"{stem}.peer-input.vtk"))
     for method in GMSH_METHODS:
         if method in gmsh_res:
             runs.append((f"gmsh {method}", gmsh_res[method], held))
     if getme_exe:
         try:
-            r = run_getme_for(getme_exe, path, os.path.join(out_dir, f"{stem}.getme.vtk"), repeat, q_in["inverted"])
+            r = run_getme_for(getme_exe, peer_path, os.path.join(out_dir, f"{stem}.getme.vtk"), repeat, q_in["inverted"])
             if r["note"]:
                 note(f"{label}: GETMe: {r['note']}")
             runs.append(("GETMe", r, held))
@@ -938,7 +953,7 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
             note(f"{label}: GETMe skipped ({e})")
     if dmo_exe and nq <= args.dmo_max_quads:
         try:
-            runs.append(("DMO", run_dmo(dmo_exe, path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
+            runs.append(("DMO", run_dmo(dmo_exe, peer_path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
         except RuntimeError as e:
             note(f"{label}: DMO skipped ({e})")
     elif dmo_exe:
@@ -1154,7 +1169,7 @@ def fmt_run(r):
 
 def fmt_dominance(d):
     out = [f"Dominance: {d['dominated']} of {d['counted']} counted peer runs dominated by some quadopt preset "
-           f"({d['thin']} thin peer outputs left out, {d['peer_runs']} peer runs in all)"]
+           f"({d['peer_runs']} peer runs, {d['thin']} left out as thin)"]
     out += [f"  {name}: dominates {n} of {d['counted']}" for name, n in d["per_preset"].items()]
     if d["thin_runs"]:
         out.append("  thin, left out: " + ", ".join(f"{t['mesh']} {t['peer']} ({t['edge_ratio']:.0e})" for t in d["thin_runs"]))

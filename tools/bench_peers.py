@@ -1,24 +1,50 @@
 #!/usr/bin/env python3
-"""Side-by-side comparison of quadopt with gmsh's 2D smoothers and with DMO, on the same meshes.
+"""Side-by-side comparison of quadopt's presets with gmsh's 2D smoothers, GETMe and DMO, on the same meshes.
 
-Usage:  pip install -r tools/requirements.txt numpy        # gmsh 4.15.2 (pinned) and numpy
+Usage:  python3 -m venv VENV && VENV/bin/pip install -r tools/requirements.txt numpy   # gmsh 4.15.2 (pinned)
         cargo build --release
-        python3 tools/bench_peers.py                    # 10k, 200k, 1M plates, data/, Mesquite
-        python3 tools/bench_peers.py --skip-1m --json results.json
-        python3 tools/bench_peers.py --sizes none --only plate_2holes    # sample meshes only
+        VENV/bin/python tools/bench_peers.py --sizes 10k,200k     # the benchmark: data/, Mesquite, two plates
+        VENV/bin/python tools/bench_peers.py --json results.json  # also the 1M plate; rows and dominance as JSON
+        VENV/bin/python tools/bench_peers.py --sizes none --only plate_2holes     # sample meshes only
+        VENV/bin/python tools/bench_peers.py --from-json results.json --wide      # an earlier run, one row per mesh
+        VENV/bin/python tools/bench_peers.py --sizes none --dominance-count       # the count alone, one JSON line
+A quadopt without `--effort`: give each preset's flags instead, e.g.
+        --preset-flags "fast=--no-maxmin --max-iter 10" --preset-flags balanced= --preset-flags best=
 
-The table goes to stdout, notes (skipped meshes and tools, checks that failed) to stderr.
-Columns: mesh, quads, tool ("input" is the mesh as given), seconds (median wall-clock time of
-the smoothing step alone, no meshing or file IO), CPU s (CPU seconds of that step, all threads:
-gmsh's exactly, around the optimize call; quadopt's and DMO's as the process's CPU time minus
-that of a run of the same program that only reads, sets up and writes: `--max-iter 1 --boundary
-fixed --no-untangle`, DMO `--iters 0`), min SJ / avg SJ (minimum and mean scaled Jacobian over
-all quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
-edge ratio of a quad; see "thin" below), and quadopt's time divided by the
-tool's, wall-clock and CPU (below 1: quadopt is faster; no CPU ratio where either CPU time is
-under 1 ms, the noise of process accounting). On a machine shared with other work the
-CPU columns are the ones to trust. "(!)" after a tool marks an output that failed a check (see
-the notes).
+The table goes to stdout, then the dominance count (below); notes (skipped meshes and tools,
+checks that failed) go to stderr. Columns: mesh, quads, tool ("input" is the mesh as given; a
+peer; "quadopt NAME" per preset), seconds (the median over the repeats of the tool's own timer
+of the smoothing step alone, no meshing or file IO; see each tool below), CPU s (CPU seconds of
+that step, all threads: gmsh's exactly, around the optimize call; quadopt's and DMO's as the
+process's CPU time minus that of a run of the same program that only reads, sets up and writes:
+quadopt `--max-iter 1 --boundary fixed --no-untangle --no-maxmin`, DMO `--iters 0`; none for
+GETMe, whose driver has no such run), min SJ / avg SJ (minimum and mean scaled Jacobian over all
+quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
+edge ratio of a quad; "thin" after it: see below), and quadopt's time divided by the peer's,
+wall-clock and CPU, where quadopt is the balanced preset (the default; the first preset run if
+balanced was not) (below 1: quadopt is faster; no CPU ratio where either CPU time is missing or
+under 1 ms, the noise of process accounting). "(!)" after a tool marks an output that failed a
+check (see the notes). --wide gives one row per mesh: per tool "min / avg (inverted), CPU s"
+(GETMe: its own seconds, "wall") and the CPU ratio.
+
+Dominance
+---------
+A peer run (one gmsh optimizer, GETMe or DMO on one mesh) is DOMINATED when some quadopt preset
+on the same mesh has
+  * seconds <= the peer's (each tool's own timer of the smoothing step, medians; a time under
+    1 ms counts as 1 ms, the timers' noise),
+  * min >= the peer's min - 1e-3 and avg >= the peer's avg - 1e-3,
+  * inverted <= the peer's inverted,
+  * and an output that passed the checks.
+Peers run on one thread, quadopt on all cores as users run it. A peer output that is thin (its
+smallest edge ratio below a tenth of the input's: it squashed quads into thin rectangles, which
+the scaled Jacobian scores well) is left out of the count. Printed after the table: per preset,
+how many of the counted peer runs it dominates; in all, how many some preset dominates, out of
+how many counted (and the thin ones left out); then each peer run NOT dominated, with the peer's
+and every preset's time / min / avg / inverted and what each preset misses (slower, min, avg,
+inverted, failed check). --json holds it as "dominance" (with the same lists); --from-json
+recomputes it from the rows (a file written before the presets has one preset, "quadopt");
+--dominance-count prints {"dominated", "counted", "thin", "peer_runs", "per_preset"} alone.
 
 Meshes
 ------
@@ -27,11 +53,11 @@ Meshes
   Blossom recombination in its all-quad form (Mesh.RecombinationAlgorithm = 3: triangulate at
   twice the size, recombine, then split every element into quads; plain Blossom leaves a few
   triangles at these sizes), no smoothing (Mesh.Smoothing = 0), one thread, fixed seed; the mesh
-  size is chosen for about 10k, 200k or 1M quads (--sizes). This gives inputs like the issue's
-  reference plate (min/avg scaled Jacobian about 0.2/0.87).
+  size is chosen for about 10k, 200k or 1M quads (--sizes, default 10k,200k,1m). This gives
+  inputs like the issue's reference plate (min/avg scaled Jacobian about 0.2/0.87).
 * every mesh in data/ and in the Mesquite test meshes (../shared/meshes/mesquite relative to the
-  repository, or --mesquite DIR), when quadopt can read it (curved surfaces, triangles: skipped
-  with a note).
+  repository, or --mesquite DIR), when quadopt can read it: the planar ones (curved surfaces
+  and meshes with triangles are skipped with a note).
 
 Tools (each on the same input nodes; "held" = never moved)
 ----------------------------------------------------------
@@ -45,36 +71,50 @@ Tools (each on the same input nodes; "held" = never moved)
   points too (so they are held), quads are given in the surface's orientation. Between the
   optimizers (and between repeats) every node is put back with `setNode`, and the script checks
   that the coordinates are bit-identical to the file's before each run. Only the optimize call
-  is timed. Why a plane surface: on a discrete surface (a mesh merged or added as is) none of
-  the three optimizers moves any node, even with force=True. Checked on the 2k-quad plate: the
-  rebuilt surface gives UntangleMeshGeometry's result of the meshing session to 1e-16, and
-  Laplace2D's and Relocate2D's within 0.03 on the minimum and 3e-4 on the average (they visit
-  the nodes in another order). UntangleMeshGeometry is skipped above --untangle-max-quads
-  (default 50000; it took 50 CPU-s on 13.7k quads and did not finish in 10 min on 186k).
-* quadopt: `quadopt optimize IN -o OUT --json` with the default options (boundary `auto`: the
-  boundary may slide along itself or snap; `fixed` vertices held); the time is the run's own
-  `seconds` (no file IO). With --quadopt-fixed also a `--boundary fixed` run, the setting that
-  holds exactly what the peers hold.
+  is timed (time.perf_counter). Why a plane surface: on a discrete surface (a mesh merged or
+  added as is) none of the three optimizers moves any node, even with force=True. Checked on the
+  2k-quad plate: the rebuilt surface gives UntangleMeshGeometry's result of the meshing session
+  to 1e-16, and Laplace2D's and Relocate2D's within 0.03 on the minimum and 3e-4 on the average
+  (they visit the nodes in another order). UntangleMeshGeometry is skipped above
+  --untangle-max-quads (default 50000; it took 50 CPU-s on 13.7k quads and did not finish in
+  10 min on 186k).
+* GETMe (Vartziotis and Wipper): the driver in --getme DIR (default ../shared/peers/getme, or
+  $QUADOPT_GETME_DIR; GPL, so it is built, never copied into this repository), built once with
+  its build.sh into --out-dir, run as `getme_smooth getme IN OUT` on a valid input and
+  `getme_smooth untangle+getme IN OUT` on one with inverted quads (or one GETMe's own test finds
+  invalid), boundary and `fixed` vertices held. Its time is the driver's `seconds`: its own
+  timer around the smoothing calls (GETMe's copy of the mesh and its quality evaluations
+  included; no file IO, no set-up of the polygonal mesh); GETMe's internal stopwatches
+  (`getme_seconds`, loops only) go to the JSON. One thread: built without TBB, its
+  std::execution::par_unseq calls run serially. Skipped with a note when it cannot be built.
 * DMO (Zint and Grosso, IMR 2018): the driver in --dmo DIR (default ../shared/peers/dmo, or
   $QUADOPT_DMO_DIR), built once with its build.sh into --out-dir, run as
   `OMP_NUM_THREADS=1 dmo_smooth --metric vsj IN OUT` (Verdict's quad scaled Jacobian, 100
   sweeps, boundary and `fixed` vertices held); its time is the driver's `seconds` (set-up and
-  solve, no file IO). Skipped with a note when the directory or a compiler is missing.
+  solve, no file IO). Skipped with a note when the directory or a compiler is missing, and
+  above --dmo-max-quads.
+* quadopt, once per preset in --presets (default fast,balanced,best): `quadopt optimize IN -o
+  OUT --json --effort NAME`, or the flags --preset-flags NAME=FLAGS gives for that preset, with
+  the default options otherwise (boundary `auto`: the boundary may slide along itself or snap;
+  `fixed` vertices held); its time is the report's own `seconds` (no file IO). A note says when
+  the report's "effort" is not the preset asked for. With --quadopt-fixed also a `--boundary
+  fixed` run of every preset (the setting that holds exactly what the peers hold; not counted
+  in the dominance).
+GETMe and DMO read this script's copy of a file mesh (the same nodes bit for bit, checked):
+their readers trust a CELLS size that some files get wrong (Mesquite's unstrquad).
 
 Every output is evaluated by ONE evaluator (class Evaluator: a numpy implementation of quadopt's
 signed scaled Jacobian, which equals Verdict's quad scaled Jacobian on every quad that is not
 inverted), always against the input's orientation, so min, avg and inverted (quads with scaled
 Jacobian <= 0) mean the same for every tool. `quadopt quality --json` is run on every file as a
 cross-check; where the two differ (only when a tool flipped a whole component, since quadopt
-orients each file by itself) a note says so. The script also checks, per
-output, that the quads are the input's and that every held vertex is bit-identical to the
-input; a violation is printed as a note and flagged in the table. Times are medians over
---repeat runs (default 3, or 1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1;
-a run that took more than 20 s is not repeated); the gmsh runs of one optimizer must give
-bit-identical coordinates on every repeat. The scaled Jacobian does not see aspect ratio, so the
-wide table marks an output "(thin R)" when its smallest edge ratio R (shortest over longest edge
-of a quad) is below a tenth of the input's: it squashed quads into thin rectangles that score
-well.
+orients each file by itself) a note says so. The script also checks, per output, that the quads
+are the input's and that every held vertex is bit-identical to the input; a violation is
+printed as a note and flagged in the table. Times are medians over --repeat runs (default 3, or
+1 for meshes of 500k quads or more; DMO --dmo-repeat, default 1; a run that took more than 20 s
+is not repeated); the gmsh runs of one optimizer must give bit-identical coordinates on every
+repeat. The JSON file holds {"gmsh": version, "presets": {name: flags}, "rows": [...],
+"dominance": {...}}.
 """
 
 import argparse
@@ -82,7 +122,7 @@ import json
 import math
 import os
 import resource
-import shutil
+import shlex
 import statistics
 import subprocess
 import sys
@@ -532,8 +572,20 @@ def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
 
 
 # --------------------------------------------------------------------------------------------
-# quadopt and DMO
+# quadopt and the peers run as processes (DMO, GETMe)
 # --------------------------------------------------------------------------------------------
+
+
+def peer_copy(mesh, path):
+    """Writes `mesh` to path in this script's plain layout and checks that it reads back bit for
+    bit. GETMe and DMO get this copy of a file mesh: their readers trust a CELLS size that some
+    files get wrong (Mesquite's unstrquad), which this script's reader walks around."""
+    write_vtk(path, mesh)
+    back = read_vtk(path)
+    same_fixed = (back.fixed is None) == (mesh.fixed is None) and (mesh.fixed is None or np.array_equal(back.fixed, mesh.fixed))
+    if not (np.array_equal(back.points, mesh.points) and np.array_equal(back.quads, mesh.quads) and same_fixed):
+        raise RuntimeError("the peers' copy of the mesh differs from the file")
+    return path
 
 
 def quality(quadopt, path):
@@ -663,37 +715,65 @@ def child_cpu():
     return u.ru_utime + u.ru_stime
 
 
-def run_quadopt(quadopt, in_path, out_path, repeat, extra=()):
-    """quadopt's own timing of the run (no IO); the process's CPU seconds (with IO) go to the
-    JSON only, as a check on a loaded machine."""
+def run_quadopt(quadopt, in_path, out_path, repeat, flags, io_cpu):
+    """quadopt's own timing of the run (no IO); the process's CPU seconds less io_cpu (see
+    quadopt_io_cpu) as its CPU time. The report's "effort" (the preset that ran, when the
+    binary reports one) goes to the row."""
     times, cpu = [], []
     for _ in range(repeat):
         if times and times[0] > LONG_RUN:
             break
         c0 = child_cpu()
-        r = subprocess.run([quadopt, "optimize", in_path, "-o", out_path, "--json", *extra], capture_output=True, text=True)
+        r = subprocess.run([quadopt, "optimize", in_path, "-o", out_path, "--json", *flags], capture_output=True, text=True)
         cpu.append(child_cpu() - c0)
         if r.returncode != 0:
             raise RuntimeError(r.stderr.strip() or r.stdout.strip())
-        times.append(json.loads(r.stdout)["seconds"])
-    # CPU of the same read, set-up and write with a single sweep (no untangling, no max-min
-    # stage), to take IO out of the CPU time.
+        j = json.loads(r.stdout)
+        times.append(j["seconds"])
+    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io_cpu,
+                cpu=max(0.0, statistics.median(cpu) - io_cpu), effort=j.get("effort"), quadopt_flags=list(flags), output=out_path)
+
+
+def quadopt_io_cpu(quadopt, in_path, out_path):
+    """CPU seconds of a quadopt run that only reads, sets up, does one sweep and writes (no
+    untangling, no max-min stage): subtracted from each run's process CPU to take IO out."""
     c0 = child_cpu()
-    subprocess.run([quadopt, "optimize", in_path, "-o", out_path + ".io.vtk", "--json", "--max-iter", "1",
+    subprocess.run([quadopt, "optimize", in_path, "-o", out_path, "--json", "--max-iter", "1",
                     "--boundary", "fixed", "--no-untangle", "--no-maxmin"], capture_output=True, text=True)
-    io = child_cpu() - c0
-    return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
-                cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
+    return child_cpu() - c0
 
 
-def build_dmo(dmo_dir, out_dir):
-    exe = os.path.join(out_dir, "dmo-build", "dmo_smooth")
-    src = [os.path.join(dmo_dir, "dmo_smooth.cpp"), os.path.join(dmo_dir, "build.sh")]
+def preset_flags(presets, overrides):
+    """quadopt's flags per preset: `--effort NAME`, or what --preset-flags NAME=FLAGS gives."""
+    return {name: shlex.split(overrides[name]) if name in overrides else ["--effort", name] for name in presets}
+
+
+def parse_preset_flags(items):
+    """--preset-flags values (NAME=FLAGS) as {name: flags string}."""
+    out = {}
+    for it in items or []:
+        name, eq, flags = it.partition("=")
+        if not eq or not name.strip():
+            sys.exit(f"error: --preset-flags wants NAME=FLAGS, got {it!r}")
+        out[name.strip()] = flags
+    return out
+
+
+def has_effort_flag(quadopt):
+    r = subprocess.run([quadopt, "optimize", "--help"], capture_output=True, text=True)
+    return "--effort" in r.stdout
+
+
+def build_peer(peer_dir, out_dir, exe_name, sources):
+    """Builds a peer with its build.sh into out_dir (never inside the peer's directory, which
+    may be read-only) unless the executable is newer than its build.sh and `sources`."""
+    exe = os.path.join(out_dir, exe_name)
+    src = [os.path.join(peer_dir, f) for f in ("build.sh", *sources)]
     if os.path.exists(exe) and all(os.path.getmtime(exe) >= os.path.getmtime(s) for s in src):
         return exe
-    r = subprocess.run(["bash", os.path.join(dmo_dir, "build.sh"), os.path.dirname(exe)], capture_output=True, text=True)
+    r = subprocess.run(["bash", os.path.join(peer_dir, "build.sh"), out_dir], capture_output=True, text=True)
     if r.returncode != 0 or not os.path.exists(exe):
-        raise RuntimeError(f"DMO build failed: {(r.stderr or r.stdout).strip()[-500:]}")
+        raise RuntimeError(f"build failed: {(r.stderr or r.stdout).strip()[-500:]}")
     return exe
 
 
@@ -718,6 +798,52 @@ def run_dmo(exe, in_path, out_path, repeat):
     io = child_cpu() - c0
     return dict(seconds=statistics.median(times), times=times, process_cpu_seconds=cpu, io_cpu_seconds=io,
                 cpu=max(0.0, statistics.median(cpu) - io), output=out_path)
+
+
+class GetmeRefused(RuntimeError):
+    """GETMe's driver failed; input_valid is GETMe's own verdict on the input (None: unknown)."""
+
+    def __init__(self, msg, input_valid):
+        super().__init__(msg)
+        self.input_valid = input_valid
+
+
+def run_getme(exe, in_path, out_path, repeat, mode):
+    """GETMe's driver in `mode` (getme or untangle+getme); its time is the driver's own timer of
+    the smoothing calls (`seconds`). No CPU time: the driver has no IO-only mode to subtract."""
+    times, own, cpu = [], [], []
+    for _ in range(repeat):
+        if times and times[0] > LONG_RUN:
+            break
+        c0 = child_cpu()
+        r = subprocess.run([exe, mode, in_path, out_path], capture_output=True, text=True)
+        cpu.append(child_cpu() - c0)
+        try:
+            j = json.loads(r.stdout.strip().splitlines()[-1])
+        except (ValueError, IndexError):
+            raise RuntimeError(r.stderr.strip() or "no report")
+        if r.returncode != 0 or not j.get("ok"):
+            raise GetmeRefused(j.get("error") or r.stderr.strip(), j.get("input_valid"))
+        times.append(j["seconds"])
+        own.append(j["getme_seconds"])
+    return dict(seconds=statistics.median(times), times=times, getme_seconds=own, process_cpu_seconds=cpu,
+                cpu=None, mode=mode, note=j.get("note", ""), output=out_path)
+
+
+def run_getme_for(exe, in_path, out_path, repeat, inverted):
+    """GETMe as a user would run it: `getme` on a valid input, `untangle+getme` on one with
+    inverted quads; also `untangle+getme` when GETMe's own validity test (its mean ratio)
+    refuses an input the evaluator finds valid."""
+    if inverted:
+        return run_getme(exe, in_path, out_path, repeat, "untangle+getme")
+    try:
+        return run_getme(exe, in_path, out_path, repeat, "getme")
+    except GetmeRefused as e:
+        if e.input_valid is not False:
+            raise
+        r = run_getme(exe, in_path, out_path, repeat, "untangle+getme")
+        r["note"] = (r["note"] + "; " if r["note"] else "") + "GETMe found the input invalid: untangle+getme"
+        return r
 
 
 # --------------------------------------------------------------------------------------------
@@ -758,8 +884,8 @@ def cross_check(label, name, mine, theirs):
              f"{mine['inverted']}")
 
 
-def bench_mesh(args, label, source, quadopt, dmo_exe):
-    """All tools on one mesh; returns a list of row dicts."""
+def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
+    """All tools on one mesh (presets: {name: quadopt flags}); returns a list of row dicts."""
     out_dir = args.out_dir
     stem = label.replace("/", "_")
     rows = []
@@ -813,49 +939,58 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
     rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted", "edge_ratio")}))
 
     runs = []  # (tool name, result dict, vertices that must not move)
+    peer_path = path if source[0] == "plate" else peer_copy(mesh, os.path.join(out_dir, f"{stem}.peer-input.vtk"))
     for method in GMSH_METHODS:
         if method in gmsh_res:
             runs.append((f"gmsh {method}", gmsh_res[method], held))
-    try:
-        runs.append(("quadopt", run_quadopt(quadopt, path, os.path.join(out_dir, f"{stem}.quadopt.vtk"), repeat), fixed))
-    except RuntimeError as e:
-        note(f"{label}: quadopt failed ({e})")
-    if args.quadopt_fixed:
+    if getme_exe:
         try:
-            r = run_quadopt(quadopt, path, os.path.join(out_dir, f"{stem}.quadopt-fixed.vtk"), repeat, ["--boundary", "fixed"])
-            runs.append(("quadopt --boundary fixed", r, held))
+            r = run_getme_for(getme_exe, peer_path, os.path.join(out_dir, f"{stem}.getme.vtk"), repeat, q_in["inverted"])
+            if r["note"]:
+                note(f"{label}: GETMe: {r['note']}")
+            runs.append(("GETMe", r, held))
         except RuntimeError as e:
-            note(f"{label}: quadopt --boundary fixed failed ({e})")
+            note(f"{label}: GETMe skipped ({e})")
     if dmo_exe and nq <= args.dmo_max_quads:
         try:
-            runs.append(("DMO", run_dmo(dmo_exe, path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
+            runs.append(("DMO", run_dmo(dmo_exe, peer_path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
         except RuntimeError as e:
             note(f"{label}: DMO skipped ({e})")
     elif dmo_exe:
         note(f"{label}: DMO skipped ({nq} quads > --dmo-max-quads {args.dmo_max_quads})")
+    io_cpu = quadopt_io_cpu(quadopt, path, os.path.join(out_dir, f"{stem}.quadopt-io.vtk"))
+    variants = [(f"quadopt {name}", f"{stem}.quadopt-{name}", flags, fixed) for name, flags in presets.items()]
+    if args.quadopt_fixed:
+        variants += [(f"quadopt {name} --boundary fixed", f"{stem}.quadopt-{name}-fixed", [*flags, "--boundary", "fixed"], held)
+                     for name, flags in presets.items()]
+    for name, out_stem, flags, must_hold in variants:
+        try:
+            r = run_quadopt(quadopt, path, os.path.join(out_dir, out_stem + ".vtk"), repeat, flags, io_cpu)
+        except RuntimeError as e:
+            note(f"{label}: {name} failed ({e})")
+            continue
+        if "--effort" in flags and r["effort"] != flags[flags.index("--effort") + 1]:
+            note(f"{label}: {name}: the report says effort {r['effort']!r}")
+        runs.append((name, r, must_hold))
 
-    q_run = next((r for name, r, _ in runs if name == "quadopt"), None)
     for name, r, must_hold in runs:
         chk = check_output(mesh, r["output"], must_hold)
-        flags = []
+        failed = []
         if chk.get("error"):
-            flags.append(chk["error"])
+            failed.append(chk["error"])
         else:
             if chk["bad_quads"]:
-                flags.append(f"{chk['bad_quads']} quads changed")
+                failed.append(f"{chk['bad_quads']} quads changed")
             if chk["held_moved"]:
-                flags.append(f"{chk['held_moved']} held vertices moved")
-        for f in flags:
+                failed.append(f"{chk['held_moved']} held vertices moved")
+        for f in failed:
             note(f"{label}: {name}: {f}")
         q = evaluator.stats(read_vtk(r["output"]).points)
         cross_check(label, name, q, quality(quadopt, r["output"]))
-        peer = (name.startswith("gmsh") or name == "DMO") and q_run is not None
-        ratio = q_run["seconds"] / r["seconds"] if peer and r["seconds"] > 0 else None
-        cpu_ratio = q_run["cpu"] / r["cpu"] if peer and min(r["cpu"], q_run["cpu"]) >= CPU_FLOOR else None
-        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu_seconds=r.get("cpu_seconds"),
-                         process_cpu_seconds=r.get("process_cpu_seconds"),
-                         min=q["min"], avg=q["avg"], edge_ratio=q["edge_ratio"],
-                         inverted=q["inverted"], cpu=r["cpu"], quadopt_ratio=ratio, quadopt_cpu_ratio=cpu_ratio, flags=flags))
+        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu=r["cpu"],
+                         **{k: r[k] for k in ("cpu_seconds", "process_cpu_seconds", "getme_seconds", "mode", "effort", "quadopt_flags")
+                            if r.get(k) is not None},
+                         min=q["min"], avg=q["avg"], edge_ratio=q["edge_ratio"], inverted=q["inverted"], flags=failed))
     return rows
 
 
@@ -863,50 +998,96 @@ def bench_mesh(args, label, source, quadopt, dmo_exe):
 CPU_FLOOR = 1e-3
 
 # An output whose smallest edge ratio (shortest over longest edge of a quad) falls below this
-# fraction of the input's is marked "(thin R)" in the wide table: it has squashed quads.
+# fraction of the input's is "thin": it has squashed quads, which the scaled Jacobian scores well.
 THIN = 0.1
+
+# Dominance (see the module docs): a min or avg within QUALITY_SLACK of the peer's reaches it,
+# and a time under TIME_FLOOR counts as TIME_FLOOR (below 1 ms the timers measure noise).
+QUALITY_SLACK = 1e-3
+TIME_FLOOR = 1e-3
+
+
+def role(tool):
+    """"input", "peer" (gmsh, GETMe, DMO), "preset" (quadopt as users run it; plain "quadopt" in
+    JSON files written before the presets) or "other" (quadopt --boundary fixed)."""
+    if tool == "input":
+        return "input"
+    if tool.startswith("gmsh ") or tool in ("GETMe", "DMO"):
+        return "peer"
+    if tool == "quadopt" or (tool.startswith("quadopt ") and " --" not in tool):
+        return "preset"
+    return "other"
+
+
+def is_thin(row, input_row):
+    r = row.get("edge_ratio")
+    return r is not None and input_row is not None and r < THIN * input_row["edge_ratio"]
+
+
+def by_mesh(rows):
+    """{(mesh, quads): {tool: row}}, in the rows' order."""
+    out = {}
+    for r in rows:
+        out.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = r
+    return out
+
+
+def reference_preset(tools):
+    """The quadopt row the ratio columns divide by: the balanced preset (the default) if it ran,
+    else the first preset that did."""
+    presets = [r for name, r in tools.items() if role(name) == "preset"]
+    return tools.get("quadopt balanced") or (presets[0] if presets else None)
+
+
+def ratios(rows):
+    """Per row, the reference preset's time over the peer's, wall-clock and CPU (None where
+    not a peer, or either CPU time is missing or below CPU_FLOOR)."""
+    refs = {key: reference_preset(tools) for key, tools in by_mesh(rows).items()}
+    out = []
+    for r in rows:
+        q = refs.get((r["mesh"], r["quads"]))
+        if q is None or role(r["tool"]) != "peer":
+            out.append((None, None))
+            continue
+        wall = q["seconds"] / r["seconds"] if r["seconds"] > 0 else None
+        qc, tc = q.get("cpu"), r.get("cpu")
+        cpu = qc / tc if qc is not None and tc is not None and min(qc, tc) >= CPU_FLOOR else None
+        out.append((wall, cpu))
+    return out
 
 
 def fmt_seconds(x):
     return "–" if x is None else (f"{x:.4f}" if x < 1 else f"{x:.2f}")
 
 
-def cpu_ratios(rows):
-    """quadopt's CPU seconds over each peer's, per row (None where either is below CPU_FLOOR)."""
-    q = {r["mesh"]: r.get("cpu") for r in rows if r["tool"] == "quadopt"}
-    out = []
-    for r in rows:
-        qc, tc = q.get(r["mesh"]), r.get("cpu")
-        peer = r["tool"].startswith("gmsh") or r["tool"] == "DMO"
-        ok = peer and qc is not None and tc is not None and qc >= CPU_FLOOR and tc >= CPU_FLOOR
-        out.append(qc / tc if ok else None)
-    return out
+def tool_label(r):
+    """The tool's name, with GETMe's mode when it untangled first and "(!)" after a failed check."""
+    name = r["tool"] + (f" ({r['mode']})" if r.get("mode", "getme") != "getme" else "")
+    return name + (" (!)" if r.get("flags") else "")
 
 
 def fmt_rows(rows):
+    inputs = {key: tools.get("input") for key, tools in by_mesh(rows).items()}
     out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | edge ratio | quadopt / tool (s) | quadopt / tool (CPU) |",
            "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-    for r, cr in zip(rows, cpu_ratios(rows)):
-        ratio = "" if r.get("quadopt_ratio") is None else f"{r['quadopt_ratio']:.3g}"
-        cratio = "" if cr is None else f"{cr:.3g}"
-        tool = r["tool"] + (" (!)" if r.get("flags") else "")
-        out.append(f"| {r['mesh']} | {r['quads']} | {tool} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
-                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {r['edge_ratio']:.1e} | {ratio} | {cratio} |")
+    for r, (wall, cpu) in zip(rows, ratios(rows)):
+        thin = " thin" if r["tool"] != "input" and is_thin(r, inputs[(r["mesh"], r["quads"])]) else ""
+        out.append(f"| {r['mesh']} | {r['quads']} | {tool_label(r)} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
+                   f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {r['edge_ratio']:.1e}{thin} | "
+                   f"{'' if wall is None else f'{wall:.3g}'} | {'' if cpu is None else f'{cpu:.3g}'} |")
     return "\n".join(out)
 
 
 def fmt_wide(rows):
-    """One row per mesh: per tool "min / avg (inverted) CPU s" and quadopt's CPU ratio to each peer."""
+    """One row per mesh: per tool "min / avg (inverted), CPU s" (a tool without a CPU time:
+    its own seconds, marked "wall") and the reference preset's CPU ratio to each peer."""
     tools = []
     for r in rows:
         if r["tool"] not in tools:
             tools.append(r["tool"])
-    by_mesh = {}
-    for r, cr in zip(rows, cpu_ratios(rows)):
-        by_mesh.setdefault((r["mesh"], r["quads"]), {})[r["tool"]] = dict(r, cpu_ratio=cr)
-    head = "| mesh | quads | " + " | ".join(tools) + " |"
-    out = [head, "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
-    for (mesh, nq), t in by_mesh.items():
+    cpu_ratio = {id(r): cpu for r, (_, cpu) in zip(rows, ratios(rows))}
+    out = ["| mesh | quads | " + " | ".join(tools) + " |", "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
+    for (mesh, nq), t in by_mesh(rows).items():
         cells = []
         for name in tools:
             r = t.get(name)
@@ -916,13 +1097,14 @@ def fmt_wide(rows):
             c = f"{r['min']:.3f} / {r['avg']:.3f}"
             if r["inverted"]:
                 c += f" ({r['inverted']} inv.)"
-            thin = r.get("edge_ratio")
-            if name != "input" and thin is not None and thin < THIN * t["input"]["edge_ratio"]:
-                c += f" (thin {thin:.0e})"
+            if name != "input" and is_thin(r, t.get("input")):
+                c += f" (thin {r['edge_ratio']:.0e})"
             if r.get("cpu") is not None:
                 c += f", {fmt_seconds(r['cpu'])} s"
-            if r["cpu_ratio"] is not None:
-                c += f" (q/t {r['cpu_ratio']:.2g})"
+            elif r.get("seconds") is not None:
+                c += f", {fmt_seconds(r['seconds'])} s wall"
+            if cpu_ratio[id(r)] is not None:
+                c += f" (q/t {cpu_ratio[id(r)]:.2g})"
             if r.get("flags"):
                 c += " (!)"
             cells.append(c)
@@ -930,7 +1112,80 @@ def fmt_wide(rows):
     return "\n".join(out)
 
 
-def main():
+def misses(preset, peer):
+    """What keeps a preset's row from dominating a peer's row (empty: it dominates)."""
+    out = []
+    if max(preset["seconds"], TIME_FLOOR) > max(peer["seconds"], TIME_FLOOR):
+        out.append("slower")
+    if preset["min"] < peer["min"] - QUALITY_SLACK:
+        out.append("min")
+    if preset["avg"] < peer["avg"] - QUALITY_SLACK:
+        out.append("avg")
+    if preset["inverted"] > peer["inverted"]:
+        out.append("inverted")
+    if preset.get("flags"):
+        out.append("failed check")  # an output that changed the quads or moved a held vertex wins nothing
+    return out
+
+
+def run_summary(r):
+    return dict(seconds=r["seconds"], min=r["min"], avg=r["avg"], inverted=r["inverted"])
+
+
+def dominance(rows):
+    """The dominance count over all meshes (see the module docs): per preset and in all, with
+    the peer runs no preset dominates and the thin ones left out."""
+    per_preset, thin, not_dominated = {}, [], []
+    counted = dominated = 0
+    for (mesh, _), tools in by_mesh(rows).items():
+        presets = [r for name, r in tools.items() if role(name) == "preset"]
+        for p in presets:
+            per_preset.setdefault(p["tool"], 0)
+        for peer in (r for name, r in tools.items() if role(name) == "peer"):
+            if is_thin(peer, tools.get("input")):
+                thin.append(dict(mesh=mesh, peer=peer["tool"], edge_ratio=peer["edge_ratio"]))
+                continue
+            counted += 1
+            miss = {p["tool"]: misses(p, peer) for p in presets}
+            for name, m in miss.items():
+                per_preset[name] += not m
+            if any(not m for m in miss.values()):
+                dominated += 1
+            else:
+                not_dominated.append(dict(mesh=mesh, peer=peer["tool"], run=run_summary(peer),
+                                          presets={p["tool"]: dict(run_summary(p), misses=miss[p["tool"]]) for p in presets}))
+    return dict(dominated=dominated, counted=counted, thin=len(thin), peer_runs=counted + len(thin), per_preset=per_preset,
+                not_dominated=not_dominated, thin_runs=thin)
+
+
+def dominance_count(d):
+    """The summary's numbers alone (--dominance-count)."""
+    return {k: d[k] for k in ("dominated", "counted", "thin", "peer_runs", "per_preset")}
+
+
+def fmt_run(r):
+    return f"{fmt_seconds(r['seconds'])} s / {r['min']:.3f} / {r['avg']:.3f} / {r['inverted']}"
+
+
+def fmt_dominance(d):
+    out = [f"Dominance: {d['dominated']} of {d['counted']} counted peer runs dominated by some quadopt preset "
+           f"({d['peer_runs']} peer runs, {d['thin']} left out as thin)"]
+    out += [f"  {name}: dominates {n} of {d['counted']}" for name, n in d["per_preset"].items()]
+    if d["thin_runs"]:
+        out.append("  thin, left out: " + ", ".join(f"{t['mesh']} {t['peer']} ({t['edge_ratio']:.0e})" for t in d["thin_runs"]))
+    if d["not_dominated"]:
+        names = list(d["per_preset"])
+        out += ["", "Not dominated (time / min SJ / avg SJ / inverted; what each preset misses):", "",
+                "| mesh | peer | peer's run | " + " | ".join(names) + " |",
+                "| --- | --- | --- | " + " | ".join("---" for _ in names) + " |"]
+        for n in d["not_dominated"]:
+            cells = [f"{fmt_run(n['presets'][p])}: {', '.join(n['presets'][p]['misses'])}" if p in n["presets"] else "–"
+                     for p in names]
+            out.append(f"| {n['mesh']} | {n['peer']} | {fmt_run(n['run'])} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
     ap.add_argument("--sizes", default="10k,200k,1m",
@@ -942,10 +1197,20 @@ def main():
     ap.add_argument("--mesquite", default=os.path.join(ROOT, "..", "shared", "meshes", "mesquite"),
                     help="Mesquite mesh directory (default ../shared/meshes/mesquite from the repository)")
     ap.add_argument("--out-dir", default=os.path.join(ROOT, "target", "bench-peers"),
-                    help="where meshes and outputs go (default target/bench-peers, ignored by git)")
-    ap.add_argument("--quadopt", default=os.path.join(ROOT, "target", "release", "quadopt"),
-                    help="quadopt binary (default target/release/quadopt: run cargo build --release)")
-    ap.add_argument("--quadopt-fixed", action="store_true", help="also run quadopt --boundary fixed (holds what the peers hold)")
+                    help="where meshes, outputs and the peers' builds go (default target/bench-peers, ignored by git)")
+    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
+    ap.add_argument("--quadopt", default=os.path.join(target, "release", "quadopt"),
+                    help="quadopt binary (default $CARGO_TARGET_DIR or target/, then release/quadopt: run cargo build --release)")
+    ap.add_argument("--presets", default="fast,balanced,best",
+                    help="quadopt presets to run, comma separated (default fast,balanced,best); each is a row 'quadopt NAME'")
+    ap.add_argument("--preset-flags", action="append", metavar="NAME=FLAGS",
+                    help="run preset NAME with these quadopt flags instead of --effort NAME (repeatable; "
+                         "e.g. \"fast=--no-maxmin --max-iter 10\", \"balanced=\")")
+    ap.add_argument("--quadopt-fixed", action="store_true",
+                    help="also run every preset with --boundary fixed (holds what the peers hold; not counted in the dominance)")
+    ap.add_argument("--getme", default=os.environ.get("QUADOPT_GETME_DIR", os.path.join(ROOT, "..", "shared", "peers", "getme")),
+                    help="GETMe peer directory with build.sh (default $QUADOPT_GETME_DIR or ../shared/peers/getme)")
+    ap.add_argument("--no-getme", action="store_true", help="do not run GETMe")
     ap.add_argument("--dmo", default=os.environ.get("QUADOPT_DMO_DIR", os.path.join(ROOT, "..", "shared", "peers", "dmo")),
                     help="DMO peer directory with build.sh (default $QUADOPT_DMO_DIR or ../shared/peers/dmo)")
     ap.add_argument("--no-dmo", action="store_true", help="do not run DMO")
@@ -956,34 +1221,33 @@ def main():
     ap.add_argument("--no-gmsh", action="store_true", help="do not run gmsh's optimizers on file meshes")
     ap.add_argument("--repeat", type=int, help="runs per tool and mesh, median reported (default 3; 1 from 500k quads)")
     ap.add_argument("--wide", action="store_true",
-                    help="one row per mesh (min / avg, CPU seconds, quadopt's CPU ratio per tool) instead of one per tool")
-    ap.add_argument("--json", metavar="PATH", help="also write all rows (with every run's time) as JSON to PATH ('-': stdout)")
-    ap.add_argument("--from-json", metavar="PATH", help="print the table of an earlier --json file instead of running")
+                    help="one row per mesh (min / avg, CPU seconds, the reference preset's CPU ratio per tool) instead of one per tool")
+    ap.add_argument("--json", metavar="PATH",
+                    help="also write all rows (with every run's time) and the dominance summary as JSON to PATH ('-': stdout)")
+    ap.add_argument("--from-json", metavar="PATH", help="print the table and the dominance of an earlier --json file instead of running")
+    ap.add_argument("--dominance-count", action="store_true",
+                    help="print only the dominance count, as one JSON line on stdout (for scripts)")
     args = ap.parse_args()
-    if args.from_json:
-        with open(args.from_json) as f:
-            rows = json.load(f)["rows"]
-        print(fmt_wide(rows) if args.wide else fmt_rows(rows))
-        return
+    if args.json == "-" and args.dominance_count:
+        ap.error("--json - and --dominance-count both want stdout")
+    return args
 
-    import gmsh
 
-    if gmsh.__version__ != GMSH_VERSION:
-        note(f"gmsh {gmsh.__version__} found, this comparison was made with {GMSH_VERSION}")
-    quadopt = os.path.abspath(args.quadopt)
-    if not os.access(quadopt, os.X_OK):
-        sys.exit(f"error: no quadopt binary at {quadopt} (cargo build --release, or --quadopt BIN)")
-    os.makedirs(args.out_dir, exist_ok=True)
-    dmo_exe = None
-    if not args.no_dmo:
-        if os.path.exists(os.path.join(args.dmo, "build.sh")):
-            try:
-                dmo_exe = build_dmo(os.path.abspath(args.dmo), os.path.abspath(args.out_dir))
-            except RuntimeError as e:
-                note(f"no DMO row: {e}")
-        else:
-            note(f"no DMO row: no DMO peer at {args.dmo} (--dmo DIR or QUADOPT_DMO_DIR)")
+def peer_exe(name, peer_dir, out_dir, build_dir, exe_name, source):
+    """A peer's executable, built with its build.sh into OUT_DIR/build_dir; None (with a note)
+    when the peer is missing or its build fails."""
+    if not os.path.exists(os.path.join(peer_dir, "build.sh")):
+        note(f"no {name} row: no {name} peer at {peer_dir} (--{name.lower()} DIR or QUADOPT_{name.upper()}_DIR)")
+        return None
+    try:
+        return build_peer(os.path.abspath(peer_dir), os.path.join(os.path.abspath(out_dir), build_dir), exe_name, [source])
+    except RuntimeError as e:
+        note(f"no {name} row: {e}")
+        return None
 
+
+def mesh_list(args):
+    """(label, source) of every mesh to run: ("plate", quads) or ("file", path)."""
     meshes = []
     if args.sizes.strip().lower() != "none":
         for s in args.sizes.split(","):
@@ -1004,20 +1268,58 @@ def main():
             note(f"no Mesquite meshes at {args.mesquite}")
     if args.only:
         meshes = [m for m in meshes if args.only in m[0]]
+    return meshes
 
-    rows = []
-    for label, source in meshes:
-        rows += bench_mesh(args, label, source, quadopt, dmo_exe)
-    table = fmt_wide(rows) if args.wide else fmt_rows(rows)
+
+def report(args, rows, record):
+    """Prints the table and the dominance summary (or the count alone) and writes the JSON."""
+    d = dominance(rows)
     if args.json:
-        text = json.dumps(dict(gmsh=gmsh.__version__, rows=rows), indent=1)
+        text = json.dumps(dict(record, rows=rows, dominance=d), indent=1)
         if args.json == "-":
             print(text)
         else:
             with open(args.json, "w") as f:
                 f.write(text + "\n")
-    if args.json != "-":
-        print(table)
+    if args.dominance_count:
+        print(json.dumps(dominance_count(d)))
+    elif args.json != "-":
+        print(fmt_wide(rows) if args.wide else fmt_rows(rows))
+        print()
+        print(fmt_dominance(d))
+
+
+def main():
+    args = parse_args()
+    if args.from_json:
+        with open(args.from_json) as f:
+            record = json.load(f)
+        args.json = None  # recomputed from the rows, never written back
+        report(args, record.pop("rows"), record)
+        return
+
+    import gmsh
+
+    if gmsh.__version__ != GMSH_VERSION:
+        note(f"gmsh {gmsh.__version__} found, this comparison was made with {GMSH_VERSION}")
+    quadopt = os.path.abspath(args.quadopt)
+    if not os.access(quadopt, os.X_OK):
+        sys.exit(f"error: no quadopt binary at {quadopt} (cargo build --release, or --quadopt BIN)")
+    names = [p.strip() for p in args.presets.split(",") if p.strip()]
+    overrides = parse_preset_flags(args.preset_flags)
+    for name in sorted(set(overrides) - set(names)):
+        note(f"--preset-flags {name}=...: {name} is not in --presets, not run")
+    presets = preset_flags(names, overrides)
+    if any(f[:1] == ["--effort"] for f in presets.values()) and not has_effort_flag(quadopt):
+        sys.exit(f"error: {quadopt} has no --effort option: give --preset-flags NAME=FLAGS for every preset in --presets")
+    os.makedirs(args.out_dir, exist_ok=True)
+    dmo_exe = None if args.no_dmo else peer_exe("DMO", args.dmo, args.out_dir, "dmo-build", "dmo_smooth", "dmo_smooth.cpp")
+    getme_exe = None if args.no_getme else peer_exe("GETMe", args.getme, args.out_dir, "getme-build", "getme_smooth", "getme_smooth.cpp")
+
+    rows = []
+    for label, source in mesh_list(args):
+        rows += bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe)
+    report(args, rows, dict(gmsh=gmsh.__version__, presets=presets))
 
 
 if __name__ == "__main__":

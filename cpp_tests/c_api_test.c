@@ -348,6 +348,42 @@ static void test_growable_structs(void) {
   CHECK(untouched);
 }
 
+/* The effort presets: the report says which ran; fast runs at most 10 sweeps and no max-min
+   stage; a caller's struct from before `effort` (the previous size) runs balanced, and a report
+   of that size is written without the field. */
+static void test_effort(void) {
+  double xy[2 * GRID_N], balanced[2 * GRID_N];
+  QuadoptOptions o;
+  QuadoptReport r;
+  CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
+  CHECK(o.effort == QUADOPT_EFFORT_BALANCED && QUADOPT_EFFORT_BALANCED == 0);
+  o.effort = QUADOPT_EFFORT_FAST;
+  r = quadopt_report_init();
+  grid_coords(xy, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
+  CHECK(r.effort == QUADOPT_EFFORT_FAST && r.max_min == 0 && r.iterations <= 10);
+  CHECK(r.output.inverted == 0 && r.output.min > r.input.min);
+  o.effort = QUADOPT_EFFORT_BEST;
+  r = quadopt_report_init();
+  grid_coords(xy, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
+  CHECK(r.effort == QUADOPT_EFFORT_BEST && r.output.min > r.input.min);
+  /* The previous version's sizes: options end before `effort`, the report before its `effort`.
+     The result must be balanced's, bit for bit. */
+  o.effort = QUADOPT_EFFORT_BALANCED;
+  grid_coords(balanced, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(balanced, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, NULL), QUADOPT_STATUS_OK);
+  o.effort = QUADOPT_EFFORT_FAST; /* beyond the declared size: not read */
+  o.struct_size = (uint32_t)offsetof(QuadoptOptions, effort);
+  memset(&r, 0x3C, sizeof r);
+  r.struct_size = (uint32_t)offsetof(QuadoptReport, effort);
+  grid_coords(xy, 1.6, 1.5);
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
+  CHECK(r.struct_size == offsetof(QuadoptReport, effort));
+  CHECK(r.effort == 0x3C3C3C3Cu); /* not written */
+  CHECK(memcmp(xy, balanced, sizeof xy) == 0);
+}
+
 /* A run of quadopt_optimize that must fail with `expected`, writing nothing. */
 static void expect_failure(QuadoptStatus expected, double *coords, uint32_t dim, size_t n, const uint32_t *quads,
                            size_t nq, const uint8_t *fixed, const QuadoptOptions *o, const char *mention, int line) {
@@ -457,6 +493,7 @@ static void test_errors(void) {
   BAD_OPTION(method, 4);
   BAD_OPTION(boundary, 99);
   BAD_OPTION(max_boundary_deviation, NAN);
+  BAD_OPTION(effort, 3);
 #undef BAD_OPTION
 
   /* The mesh itself. */
@@ -642,6 +679,7 @@ int main(void) {
   test_optimize();
   test_handle();
   test_growable_structs();
+  test_effort();
   test_errors();
   CHECK(cancel_calls == 3);
 #ifdef QUADOPT_TEST_POSIX

@@ -60,6 +60,30 @@ void test_options() {
   CHECK(std::string(oom.what()) == "out of memory: cannot allocate 32 bytes for quads");
 }
 
+// The presets through the wrapper: the report says which ran; fast runs no max-min stage and at
+// most 10 sweeps; every preset's output has no inverted quad and a minimum above the input's;
+// max_min(false) turns the stage off in every preset; an unknown effort is an invalid option.
+void test_effort() {
+  CHECK(quadopt::Options().raw().effort == QUADOPT_EFFORT_BALANCED);
+  for (quadopt::Effort e : {quadopt::Effort::Fast, quadopt::Effort::Balanced, quadopt::Effort::Best}) {
+    std::vector<double> xy = g_plate.xy();
+    const quadopt::Report r = quadopt::optimize(xy, 2, g_plate.quads, quadopt::Options().effort(e));
+    CHECK(r.effort == static_cast<std::uint32_t>(e));
+    CHECK(r.output.inverted == 0 && r.output.min > r.input.min);
+    if (e == quadopt::Effort::Fast) {
+      CHECK(r.max_min == 0 && r.iterations <= 10);
+    }
+    std::vector<double> off = g_plate.xy();
+    const quadopt::Report ro = quadopt::optimize(off, 2, g_plate.quads, quadopt::Options().effort(e).max_min(false));
+    CHECK(ro.max_min == 0);
+  }
+  std::vector<double> xy = g_plate.xy();
+  quadopt::Options bad;
+  bad.raw().effort = 7;
+  CHECK_THROWS_STATUS(quadopt::optimize(xy, 2, g_plate.quads, bad), QUADOPT_STATUS_INVALID_OPTION);
+  CHECK(qt::same_bits(xy, g_plate.xy()));
+}
+
 void test_errors() {
   std::vector<double> xy = g_grid.xy();
   const std::vector<double> before = xy;
@@ -301,6 +325,7 @@ int main(int argc, char **argv) {
     g_plate = qt::read_obj(dir + "/plate_hole.obj");
     g_grid = qt::read_obj(dir + "/jittered_grid.obj");
     test_options();
+    test_effort();
     test_errors();
     test_optimizer_handle();
     test_progress();

@@ -222,6 +222,38 @@ typedef uint32_t QuadoptStopRule;
 #endif // __cplusplus
 
 /**
+ * Effort preset, stored as a `uint32_t` in `QuadoptOptions::effort` and
+ * `QuadoptReport::effort`.
+ */
+enum QuadoptEffort
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * The default: the sweeps until the quality stops improving, then a max-min stage that
+     * stops when it stops paying.
+     */
+    QUADOPT_EFFORT_BALANCED = 0,
+    /**
+     * For meshers that smooth inside their own loop: a few guarded sweeps with untangling,
+     * no max-min stage.
+     */
+    QUADOPT_EFFORT_FAST = 1,
+    /**
+     * The highest quality, at more time.
+     */
+    QUADOPT_EFFORT_BEST = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum QuadoptEffort QuadoptEffort;
+#else
+typedef uint32_t QuadoptEffort;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * A reusable optimizer for one connectivity (quads, fixed flags, vertex count), built once
  * by `quadopt_optimizer_create()` and immutable afterwards: several threads may call
  * `quadopt_optimizer_optimize()` with one handle at the same time. Opaque to C.
@@ -273,9 +305,11 @@ typedef bool (*QuadoptProgressFn)(const struct QuadoptProgress *progress,
 
 /**
  * Optimization options. Fill with `quadopt_options_init(&options, sizeof options)`, then
- * change fields. Growable: the library reads only the first `struct_size` bytes; a
- * `struct_size` smaller than this version's struct is `QUADOPT_STATUS_INVALID_ARGUMENT`,
- * bytes beyond this version's struct are ignored.
+ * change fields. Growable: the library reads only the first `struct_size` bytes. Every size
+ * a published header declared is accepted, from the first (80 bytes on LP64, ending before
+ * `max_min`) on: the fields a caller's older, shorter struct lacks take their defaults. A
+ * `struct_size` smaller than the first version's is `QUADOPT_STATUS_INVALID_ARGUMENT`; bytes
+ * beyond this version's struct are ignored.
  */
 typedef struct QuadoptOptions {
     /**
@@ -356,6 +390,17 @@ typedef struct QuadoptOptions {
      * Reserved; set to 0. Ignored by this version.
      */
     uint32_t reserved1;
+    /**
+     * How much work the run spends on quality, a `QuadoptEffort` value (default
+     * `QUADOPT_EFFORT_BALANCED`, 0): the sweep budget and how much of the max-min stage
+     * runs. `max_iterations` still caps every preset, and `max_min = 0` turns the stage off in
+     * every preset. A caller's struct from an older header, without it, gets the default.
+     */
+    uint32_t effort;
+    /**
+     * Reserved; set to 0. Ignored by this version.
+     */
+    uint32_t reserved2;
 } QuadoptOptions;
 
 /**
@@ -384,8 +429,9 @@ typedef struct QuadoptQuality {
 /**
  * What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
  * library writes only the first `struct_size` bytes (at most its own struct) and, on success,
- * sets `struct_size` to the number of bytes it filled. A `struct_size` smaller than this
- * version's struct is `QUADOPT_STATUS_INVALID_ARGUMENT`.
+ * sets `struct_size` to the number of bytes it filled. Every size a published header declared
+ * is accepted, from the first (200 bytes on LP64, ending before `max_min`) on; a
+ * `struct_size` smaller than that is `QUADOPT_STATUS_INVALID_ARGUMENT`.
  */
 typedef struct QuadoptReport {
     /**
@@ -482,6 +528,15 @@ typedef struct QuadoptReport {
      * stage's gain.
      */
     struct QuadoptQuality sweeps;
+    /**
+     * The preset that ran, a `QuadoptEffort` value; written only when the
+     * caller's `struct_size` covers it.
+     */
+    uint32_t effort;
+    /**
+     * Reserved; written as 0.
+     */
+    uint32_t reserved2;
 } QuadoptReport;
 
 #ifdef __cplusplus

@@ -117,6 +117,13 @@ enum class Boundary : std::uint32_t {
   Snap = QUADOPT_BOUNDARY_SNAP,    ///< bisect, then project back onto the original boundary
 };
 
+/// How much work a run spends on quality (the options' other fields apply on top).
+enum class Effort : std::uint32_t {
+  Balanced = QUADOPT_EFFORT_BALANCED,  ///< the default: sweeps, then a max-min stage that stops when it stops paying
+  Fast = QUADOPT_EFFORT_FAST,          ///< a few guarded sweeps with untangling, no max-min stage
+  Best = QUADOPT_EFFORT_BEST,          ///< the highest quality, at more time
+};
+
 /// Optimization options: the library's defaults, changed by chainable setters.
 ///
 ///   quadopt::Options o = quadopt::Options().method(quadopt::Method::Laplacian).tau(1e-9);
@@ -135,6 +142,8 @@ class Options {
   /// Takes a C options struct as it is (its progress callback included).
   explicit Options(const QuadoptOptions &raw) : raw_(raw) {}
 
+  /// The effort preset (balanced by default); max_iterations and max_min still apply on top.
+  Options &effort(Effort e) { raw_.effort = static_cast<std::uint32_t>(e); return *this; }
   /// Interior smoothing method.
   Options &method(Method m) { raw_.method = static_cast<std::uint32_t>(m); return *this; }
   /// Boundary treatment.

@@ -63,8 +63,8 @@ pub use glam::DVec2;
 pub use mesh::QuadMesh;
 pub use quality::QualityStats;
 pub use smooth::{
-    BoundaryFidelity, BoundaryMode, MaxMinGain, Method, Optimizer, Options, Progress, Report, StopRule,
-    TangleReason, TangledQuad, optimize,
+    BoundaryFidelity, BoundaryMode, Effort, MaxMinGain, Method, Optimizer, Options, Progress, Report,
+    StopRule, TangleReason, TangledQuad, optimize,
 };
 pub use topology::{Topology, VertexKind};
 

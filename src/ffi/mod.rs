@@ -83,8 +83,8 @@ pub use handle::{
     QuadoptOptimizer, quadopt_optimizer_create, quadopt_optimizer_free, quadopt_optimizer_optimize,
 };
 pub use options::{
-    QuadoptBoundary, QuadoptMethod, QuadoptOptions, QuadoptProgress, QuadoptProgressFn, QuadoptStopRule,
-    quadopt_options_init,
+    QuadoptBoundary, QuadoptEffort, QuadoptMethod, QuadoptOptions, QuadoptProgress, QuadoptProgressFn,
+    QuadoptStopRule, quadopt_options_init,
 };
 pub use report::{QuadoptQuality, QuadoptReport, quadopt_report_init};
 pub use run::{quadopt_optimize, quadopt_quality, run_bytes, topology_bytes};

@@ -2,7 +2,7 @@
 //! caller's prefix of the growable struct, the conversion to the crate's [`Options`] (every
 //! field validated and named), and [`quadopt_options_init`], the one way to initialize them.
 
-use crate::smooth::{BoundaryMode, Method, Options, StopRule};
+use crate::smooth::{BoundaryMode, Effort, Method, Options, StopRule};
 use std::ffi::c_void;
 use std::mem::size_of;
 
@@ -53,6 +53,31 @@ pub enum QuadoptStopRule {
     Quality = 1,
 }
 
+/// Effort preset, stored as a `uint32_t` in `QuadoptOptions::effort` and
+/// `QuadoptReport::effort`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QuadoptEffort {
+    /// The default: the sweeps until the quality stops improving, then a max-min stage that
+    /// stops when it stops paying.
+    Balanced = 0,
+    /// For meshers that smooth inside their own loop: a few guarded sweeps with untangling,
+    /// no max-min stage.
+    Fast = 1,
+    /// The highest quality, at more time.
+    Best = 2,
+}
+
+impl QuadoptEffort {
+    pub(super) fn of(effort: Effort) -> QuadoptEffort {
+        match effort {
+            Effort::Balanced => QuadoptEffort::Balanced,
+            Effort::Fast => QuadoptEffort::Fast,
+            Effort::Best => QuadoptEffort::Best,
+        }
+    }
+}
+
 /// Progress of a run, passed to the progress callback after every sweep (and regularly while
 /// untangling, with `iteration` 0 and NaN energies).
 #[repr(C)]
@@ -83,9 +108,11 @@ pub type QuadoptProgressFn =
     Option<unsafe extern "C" fn(progress: *const QuadoptProgress, user_data: *mut c_void) -> bool>;
 
 /// Optimization options. Fill with `quadopt_options_init(&options, sizeof options)`, then
-/// change fields. Growable: the library reads only the first `struct_size` bytes; a
-/// `struct_size` smaller than this version's struct is `QUADOPT_STATUS_INVALID_ARGUMENT`,
-/// bytes beyond this version's struct are ignored.
+/// change fields. Growable: the library reads only the first `struct_size` bytes. Every size
+/// a published header declared is accepted, from the first (80 bytes on LP64, ending before
+/// `max_min`) on: the fields a caller's older, shorter struct lacks take their defaults. A
+/// `struct_size` smaller than the first version's is `QUADOPT_STATUS_INVALID_ARGUMENT`; bytes
+/// beyond this version's struct are ignored.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct QuadoptOptions {
@@ -131,6 +158,13 @@ pub struct QuadoptOptions {
     pub max_min: u32,
     /// Reserved; set to 0. Ignored by this version.
     pub reserved1: u32,
+    /// How much work the run spends on quality, a `QuadoptEffort` value (default
+    /// `QUADOPT_EFFORT_BALANCED`, 0): the sweep budget and how much of the max-min stage
+    /// runs. `max_iterations` still caps every preset, and `max_min = 0` turns the stage off in
+    /// every preset. A caller's struct from an older header, without it, gets the default.
+    pub effort: u32,
+    /// Reserved; set to 0. Ignored by this version.
+    pub reserved2: u32,
 }
 
 /// Size of the first published `QuadoptOptions`: callers' structs must be at least this large.
@@ -195,6 +229,12 @@ pub(super) fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         1 => StopRule::Quality,
         r => return Err(bad("stop_rule", format!("{r} is not a QuadoptStopRule (0 or 1)"))),
     };
+    let effort = match o.effort {
+        0 => Effort::Balanced,
+        1 => Effort::Fast,
+        2 => Effort::Best,
+        e => return Err(bad("effort", format!("{e} is not a QuadoptEffort (0 to 2)"))),
+    };
     let max_boundary_deviation =
         if o.max_boundary_deviation < 0.0 { None } else { Some(o.max_boundary_deviation) };
     let options = Options {
@@ -212,6 +252,7 @@ pub(super) fn convert_options(o: &QuadoptOptions) -> Result<Options, FfiError> {
         keep_best: o.keep_best != 0,
         max_boundary_deviation,
         max_min: o.max_min != 0,
+        effort,
     };
     options.validate()?;
     Ok(options)
@@ -241,6 +282,8 @@ pub(super) fn default_options() -> QuadoptOptions {
         progress_user_data: std::ptr::null_mut(),
         max_min: u32::from(d.max_min),
         reserved1: 0,
+        effort: QuadoptEffort::of(d.effort) as u32,
+        reserved2: 0,
     }
 }
 
@@ -372,5 +415,29 @@ mod tests {
         assert_eq!((r.max_min, r.sweeps.min), (0xA5A5_A5A5, -9.0), "fields beyond v1 written");
         assert_eq!(OPTIONS_V1_SIZE, 80);
         assert_eq!(REPORT_V1_SIZE, 200);
+    }
+
+    #[test]
+    fn the_effort_field_is_read_when_declared_and_its_preset_runs() {
+        let mut fast = default_options();
+        fast.effort = QuadoptEffort::Fast as u32;
+        let (fast_points, r) = run_plate(&fast, size_of::<QuadoptReport>());
+        assert_eq!((r.effort, r.max_min), (QuadoptEffort::Fast as u32, 0));
+        assert!(r.iterations <= Effort::FAST_SWEEPS && r.output.min > r.input.min);
+        let (balanced, rb) = run_plate(&default_options(), size_of::<QuadoptReport>());
+        assert_eq!((rb.effort, rb.max_min), (QuadoptEffort::Balanced as u32, 1));
+        assert_ne!(bits(&fast_points), bits(&balanced), "the presets differ on this plate");
+        // A caller of the previous header: options and report end before `effort`.
+        let before_effort = std::mem::offset_of!(QuadoptOptions, effort);
+        let report_before_effort = std::mem::offset_of!(QuadoptReport, effort);
+        fast.struct_size = before_effort as u32;
+        let (points, r) = run_plate(&fast, report_before_effort);
+        assert_eq!(bits(&points), bits(&balanced), "an older caller runs balanced");
+        assert_eq!((r.struct_size as usize, r.effort), (report_before_effort, 0xA5A5_A5A5), "effort written");
+        assert_eq!(before_effort, 88);
+        let mut bad = default_options();
+        bad.effort = 3;
+        let e = convert_options(&bad).unwrap_err();
+        assert!(e.status == QuadoptStatus::InvalidOption && e.message.contains("effort"), "{e:?}");
     }
 }

@@ -7,6 +7,7 @@ use crate::smooth::{BoundaryMode, Report};
 use std::mem::size_of;
 
 use super::boundary::{boundary_or, require_non_null};
+use super::options::QuadoptEffort;
 use super::status::{FfiError, QuadoptStatus};
 
 /// Quality statistics of a set of quads (signed scaled Jacobian, Verdict's definition,
@@ -26,8 +27,9 @@ pub struct QuadoptQuality {
 
 /// What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
 /// library writes only the first `struct_size` bytes (at most its own struct) and, on success,
-/// sets `struct_size` to the number of bytes it filled. A `struct_size` smaller than this
-/// version's struct is `QUADOPT_STATUS_INVALID_ARGUMENT`.
+/// sets `struct_size` to the number of bytes it filled. Every size a published header declared
+/// is accepted, from the first (200 bytes on LP64, ending before `max_min`) on; a
+/// `struct_size` smaller than that is `QUADOPT_STATUS_INVALID_ARGUMENT`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct QuadoptReport {
@@ -79,6 +81,11 @@ pub struct QuadoptReport {
     /// Quality after the sweeps, before the max-min stage: `output` minus `sweeps` is the
     /// stage's gain.
     pub sweeps: QuadoptQuality,
+    /// The preset that ran, a `QuadoptEffort` value; written only when the
+    /// caller's `struct_size` covers it.
+    pub effort: u32,
+    /// Reserved; written as 0.
+    pub reserved2: u32,
 }
 
 /// Size of the first published `QuadoptReport` (the same growth rule): it ended where
@@ -151,6 +158,8 @@ pub(super) fn report_of(r: &Report) -> QuadoptReport {
         max_min: u32::from(r.max_min.is_some()),
         reserved1: 0,
         sweeps: quality_of(&r.max_min.map_or(r.output, |g| g.before)),
+        effort: QuadoptEffort::of(r.effort) as u32,
+        reserved2: 0,
     }
 }
 
@@ -218,14 +227,16 @@ mod tests {
         // The spec's field order packs without holes on LP64 (checked so that the byte copies
         // of the prefix protocol never copy padding, and as a guard against reordering).
         if size_of::<usize>() == 8 {
-            assert_eq!(size_of::<QuadoptOptions>(), 88);
-            assert_eq!(size_of::<QuadoptReport>(), 240);
+            assert_eq!(size_of::<QuadoptOptions>(), 96);
+            assert_eq!(size_of::<QuadoptReport>(), 248);
             assert_eq!(size_of::<QuadoptQuality>(), 32);
             assert_eq!(size_of::<QuadoptProgress>(), 48);
             assert_eq!(std::mem::offset_of!(QuadoptOptions, progress), 64);
             assert_eq!(std::mem::offset_of!(QuadoptReport, loops_fixed), 192);
             assert_eq!(std::mem::offset_of!(QuadoptOptions, max_min), 80);
             assert_eq!(std::mem::offset_of!(QuadoptReport, sweeps), 208);
+            assert_eq!(std::mem::offset_of!(QuadoptOptions, effort), 88);
+            assert_eq!(std::mem::offset_of!(QuadoptReport, effort), 240);
         }
         assert_eq!(size_of::<QuadoptStatus>(), size_of::<std::ffi::c_int>());
     }

@@ -105,6 +105,7 @@ pub(super) fn run_plate(options: &QuadoptOptions, report_size: usize) -> (Vec<f6
     let mut report = QuadoptReport { struct_size: report_size as u32, ..sentinel_report() };
     report.max_min = 0xA5A5_A5A5;
     report.sweeps.min = -9.0;
+    report.effort = 0xA5A5_A5A5;
     // SAFETY: live buffers of the stated lengths; the report holds its declared bytes.
     let status = unsafe {
         quadopt_optimize(

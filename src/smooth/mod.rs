@@ -11,7 +11,8 @@
 //! 4. stops by the [`StopRule`]: by default [`StopRule::Quality`], when the quality the user
 //!    gets (inverted count, minimum, average) stops improving; [`StopRule::Energy`] when the
 //!    energy of Eq. 1 changes by less than `tau` per movable vertex;
-//! 5. runs the max-min stage ([`maxmin`]) on the worst quads, when `max_min` is set;
+//! 5. runs the max-min stage ([`maxmin`]) on the worst quads, as far as the [`Effort`] preset
+//!    says (none for `Fast`), unless `max_min` is off;
 //! 6. returns the best iterate seen (the input included), ranked by [`ranking`]: inverted
 //!    count, then minimum scaled Jacobian, then average, among those with no more inverted
 //!    quads, no quad inverted that was valid in the input, and a minimum not below the
@@ -20,6 +21,7 @@
 pub mod angle_based;
 mod auto;
 pub mod boundary;
+pub mod effort;
 pub mod embedded_polygon;
 pub mod energy;
 pub mod fidelity;
@@ -41,6 +43,7 @@ use crate::quality::QualityStats;
 use crate::renumbering::Renumbering;
 use crate::topology::Topology;
 use boundary::BoundaryGeometry;
+pub use effort::Effort;
 pub use fidelity::BoundaryFidelity;
 use glam::DVec2;
 pub use options::{BoundaryMode, Method, Options, StopRule};
@@ -333,7 +336,10 @@ impl Optimizer {
         };
         // A minimum within the ranking's tie threshold of a perfect quad has nothing to gain
         // (measured: on a 10k-quad grid at 0.9998 the stage costs 70% of the run for 1e-4).
-        let max_min = if options.max_min && !pass.cancelled && pass.stats.min < 1.0 - ranking::MIN_TIE {
+        let max_min = if options.max_min_settings().is_some()
+            && !pass.cancelled
+            && pass.stats.min < 1.0 - ranking::MIN_TIE
+        {
             ctx.max_min_stage(&mut pass, &mut progress)
         } else {
             None
@@ -366,6 +372,7 @@ impl Optimizer {
             fidelity,
             // The statistics already say whether there is anything to diagnose.
             max_min,
+            effort: options.effort,
             tangled: if pass.stats.inverted == 0 {
                 Vec::new()
             } else {

@@ -1,6 +1,7 @@
 //! Options of a run: the interior method, the boundary mode, the stopping rule and the
 //! safeguards.
 
+use super::effort::Effort;
 use crate::error::{Error, Result};
 use std::str::FromStr;
 
@@ -245,8 +246,14 @@ pub struct Options {
     pub max_boundary_deviation: Option<f64>,
     /// After the sweeps, the max-min stage (`src/smooth/maxmin.rs`): the vertices of the worst
     /// quads move to maximize their star's minimum scaled Jacobian, so the global minimum
-    /// rises and never falls. Default: true.
+    /// rises and never falls, as far as the [`Effort`] preset takes it. `false` turns the
+    /// stage off in every preset. Default: true.
     pub max_min: bool,
+    /// How much work the run spends on quality ([`Effort`]): the sweep budget and how much of
+    /// the max-min stage runs. The fields above still apply on top of it. Default:
+    /// [`Effort::Balanced`]. Build options for a preset with [`Options::fast`],
+    /// [`Options::balanced`] or [`Options::best`].
+    pub effort: Effort,
 }
 
 impl Default for Options {
@@ -287,6 +294,7 @@ impl Options {
         keep_best: true,
         max_boundary_deviation: None,
         max_min: true,
+        effort: Effort::Balanced,
     };
 
     builders! {
@@ -304,6 +312,23 @@ impl Options {
         with_keep_best => keep_best: bool,
         with_max_boundary_deviation => max_boundary_deviation: Option<f64>,
         with_max_min => max_min: bool,
+        with_effort => effort: Effort,
+    }
+
+    /// The [`Effort::Fast`] preset with every other option at its default: for meshers that
+    /// smooth inside their own loop.
+    pub const fn fast() -> Options {
+        Options::DEFAULT.with_effort(Effort::Fast)
+    }
+
+    /// The [`Effort::Balanced`] preset, the default (the same as [`Options::DEFAULT`]).
+    pub const fn balanced() -> Options {
+        Options::DEFAULT.with_effort(Effort::Balanced)
+    }
+
+    /// The [`Effort::Best`] preset: the highest quality, at more time.
+    pub const fn best() -> Options {
+        Options::DEFAULT.with_effort(Effort::Best)
     }
 
     /// The paper's plain method: no guard, no untangling, no max-min stage, the last iterate,
@@ -364,6 +389,7 @@ mod tests {
         assert_eq!((d.lambda, d.tau, d.feature_angle_deg, d.guard_floor), (1.0, 1e-7, 45.0, 0.05));
         assert_eq!((d.tau_absolute, d.max_iterations, d.max_boundary_deviation), (false, 1000, None));
         assert!(d.guard && d.untangle && d.keep_best && d.max_min);
+        assert_eq!(d.effort, Effort::Balanced);
         d.validate().unwrap();
         let set = Options::default()
             .with_method(Method::Laplacian)
@@ -379,7 +405,8 @@ mod tests {
             .with_untangle(false)
             .with_keep_best(false)
             .with_max_boundary_deviation(Some(0.1))
-            .with_max_min(false);
+            .with_max_min(false)
+            .with_effort(Effort::Best);
         let literal = Options {
             method: Method::Laplacian,
             boundary: BoundaryMode::Snap,
@@ -395,6 +422,7 @@ mod tests {
             keep_best: false,
             max_boundary_deviation: Some(0.1),
             max_min: false,
+            effort: Effort::Best,
         };
         assert_eq!(set, literal);
     }

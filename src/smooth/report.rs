@@ -1,5 +1,6 @@
 //! What a run reports: progress after every sweep, and the final report.
 
+use super::effort::Effort;
 use super::fidelity::BoundaryFidelity;
 use super::options::BoundaryMode;
 use super::untangle::TangledQuad;
@@ -86,6 +87,8 @@ pub struct Report {
     pub tangled: Vec<TangledQuad>,
     /// Quality before and after the max-min stage, when it ran and its result was kept.
     pub max_min: Option<MaxMinGain>,
+    /// The preset that ran ([`crate::Options::effort`]).
+    pub effort: Effort,
 }
 
 /// What the max-min stage changed. Made only by the library (`#[non_exhaustive]`).

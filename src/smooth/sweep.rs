@@ -105,7 +105,7 @@ impl RunContext<'_> {
             // Untangling reports iteration 0 (no smoothing sweep done yet) and no energy.
             let p = Progress {
                 iteration: 0,
-                max_iterations: opts.max_iterations,
+                max_iterations: opts.sweep_cap(),
                 energy: f64::NAN,
                 energy_change: f64::NAN,
                 pass,
@@ -138,7 +138,7 @@ impl RunContext<'_> {
         }
 
         // The stage that follows sets the minimum: keep the sweeps for their average.
-        let tie = if opts.max_min { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
+        let tie = if opts.max_min_settings().is_some() { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
         let mut stopper = Stopper::new(opts, self.features.movable_vertices().len());
         stopper.start(&current, &best_stats);
         let largest_class =
@@ -146,7 +146,8 @@ impl RunContext<'_> {
         let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
         let mut initial_energy = f64::NAN;
         let (mut iterations, mut converged) = (0, false);
-        while iterations < opts.max_iterations && !cancelled {
+        let sweep_cap = opts.sweep_cap();
+        while iterations < sweep_cap && !cancelled {
             let mut energy = 0.0;
             let mut any_moved = false;
             moved.fill(0.0);
@@ -199,7 +200,7 @@ impl RunContext<'_> {
             if let Some(cb) = progress.as_mut() {
                 let p = Progress {
                     iteration: iterations,
-                    max_iterations: opts.max_iterations,
+                    max_iterations: opts.sweep_cap(),
                     energy,
                     energy_change: verdict.energy_change,
                     pass,
@@ -246,10 +247,7 @@ impl RunContext<'_> {
         pass: &mut Pass,
         progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Option<MaxMinGain> {
-        let settings = MaxMinSettings {
-            max_boundary_deviation: self.options.max_boundary_deviation,
-            ..MaxMinSettings::default()
-        };
+        let settings = self.options.max_min_settings()?;
         let tries = if settings.escapes > 0 {
             vec![settings.clone(), MaxMinSettings { escapes: 0, ..settings }]
         } else {
@@ -282,7 +280,7 @@ impl RunContext<'_> {
     ) -> (Vec<DVec2>, Vec<f64>, QualityStats, maxmin::MaxMinReport, bool) {
         let (mut points, mut params) = (pass.points.clone(), pass.params.clone());
         let sweeps = pass.iterations;
-        let max_iterations = self.options.max_iterations;
+        let max_iterations = self.options.sweep_cap();
         let mut cancelled = false;
         let mut on_round = |round: usize, _min: f64| {
             let Some(cb) = progress.as_mut() else { return true };

@@ -36,6 +36,10 @@ pub type QuadoptBoundary = u32;
 pub const QUADOPT_STOP_RULE_ENERGY: QuadoptStopRule = 0;
 pub const QUADOPT_STOP_RULE_QUALITY: QuadoptStopRule = 1;
 pub type QuadoptStopRule = u32;
+pub const QUADOPT_EFFORT_BALANCED: QuadoptEffort = 0;
+pub const QUADOPT_EFFORT_FAST: QuadoptEffort = 1;
+pub const QUADOPT_EFFORT_BEST: QuadoptEffort = 2;
+pub type QuadoptEffort = u32;
 #[repr(C)]
 #[derive(Debug)]
 pub struct QuadoptOptimizer {
@@ -101,10 +105,12 @@ pub struct QuadoptOptions {
     pub progress_user_data: *mut ::std::os::raw::c_void,
     pub max_min: u32,
     pub reserved1: u32,
+    pub effort: u32,
+    pub reserved2: u32,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of QuadoptOptions"][::std::mem::size_of::<QuadoptOptions>() - 88usize];
+    ["Size of QuadoptOptions"][::std::mem::size_of::<QuadoptOptions>() - 96usize];
     ["Alignment of QuadoptOptions"][::std::mem::align_of::<QuadoptOptions>() - 8usize];
     [
         "Offset of field: QuadoptOptions::struct_size",
@@ -160,6 +166,12 @@ const _: () = {
     [
         "Offset of field: QuadoptOptions::reserved1",
     ][::std::mem::offset_of!(QuadoptOptions, reserved1) - 84usize];
+    [
+        "Offset of field: QuadoptOptions::effort",
+    ][::std::mem::offset_of!(QuadoptOptions, effort) - 88usize];
+    [
+        "Offset of field: QuadoptOptions::reserved2",
+    ][::std::mem::offset_of!(QuadoptOptions, reserved2) - 92usize];
 };
 #[repr(C)]
 #[derive(Debug, Copy, Clone)]
@@ -212,10 +224,12 @@ pub struct QuadoptReport {
     pub max_min: u32,
     pub reserved1: u32,
     pub sweeps: QuadoptQuality,
+    pub effort: u32,
+    pub reserved2: u32,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 240usize];
+    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 248usize];
     ["Alignment of QuadoptReport"][::std::mem::align_of::<QuadoptReport>() - 8usize];
     [
         "Offset of field: QuadoptReport::struct_size",
@@ -286,6 +300,12 @@ const _: () = {
     [
         "Offset of field: QuadoptReport::sweeps",
     ][::std::mem::offset_of!(QuadoptReport, sweeps) - 208usize];
+    [
+        "Offset of field: QuadoptReport::effort",
+    ][::std::mem::offset_of!(QuadoptReport, effort) - 240usize];
+    [
+        "Offset of field: QuadoptReport::reserved2",
+    ][::std::mem::offset_of!(QuadoptReport, reserved2) - 244usize];
 };
 unsafe extern "C" {
     pub fn quadopt_status_string(status: i32) -> *const ::std::os::raw::c_char;

@@ -6,7 +6,7 @@ use crate::openmesh_io;
 use clap::{Args, Parser, Subcommand};
 use quadopt::io::{self, Format, MeshData};
 use quadopt::synthetic::Synthetic;
-use quadopt::{BoundaryMode, Method, Options, StopRule};
+use quadopt::{BoundaryMode, Effort, Method, Options, StopRule};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -194,6 +194,11 @@ pub struct OptArgs {
 /// Numeric options shared by every optimizing command.
 #[derive(Args, Clone)]
 pub struct TuneArgs {
+    /// How much work to spend on quality: fast (a few guarded sweeps, no max-min stage: for
+    /// meshers that smooth in their own loop), balanced (the default) or best (the highest
+    /// quality, at more time). The options below apply on top of the preset.
+    #[arg(long, default_value_t = Effort::Balanced)]
+    effort: Effort,
     /// Stop when the collective energy changes by less than this per movable vertex
     /// (absolute change with --absolute-tau); implies --stop energy.
     #[arg(long, allow_negative_numbers = true)]
@@ -230,7 +235,7 @@ pub struct TuneArgs {
     /// Step factor, in (0, 1].
     #[arg(long, default_value_t = Options::default().lambda, allow_negative_numbers = true)]
     lambda: f64,
-    /// Iteration cap.
+    /// Sweep cap (every preset; fast stops at 10 sweeps by itself).
     #[arg(long = "max-iter", default_value_t = Options::default().max_iterations)]
     max_iter: usize,
     /// Boundary vertices turning by more than this many degrees are corners.
@@ -243,6 +248,7 @@ impl TuneArgs {
         let base = if self.paper { Options::paper() } else { Options::default() };
         let o = base
             .clone()
+            .with_effort(self.effort)
             .with_method(method)
             .with_boundary(boundary)
             .with_lambda(self.lambda)

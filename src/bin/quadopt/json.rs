@@ -12,6 +12,7 @@ pub fn stats_json(s: &QualityStats) -> Value {
 pub fn report_json(r: &Report) -> Value {
     let f = &r.fidelity;
     json!({
+        "effort": r.effort.name(),
         "converged": r.converged,
         "untangle_sweeps": r.untangle_sweeps,
         "loop_modes": r.loop_modes.iter().map(|m| m.name()).collect::<Vec<_>>(),

@@ -96,7 +96,12 @@ pub fn optimize(
         count(data.points.len(), "vertex", "vertices"),
         count(data.quads.len(), "quad", "quads")
     );
-    outln!("method {}, boundary {}", options.method.name(), options.boundary.name());
+    outln!(
+        "method {}, boundary {}, effort {}",
+        options.method.name(),
+        options.boundary.name(),
+        report.effort
+    );
     outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
     let sweeps = report.max_min.map(|g| ("sweeps", g.before));
     for (name, s) in [("input", report.input)].into_iter().chain(sweeps).chain([("output", report.output)]) {

@@ -29,7 +29,7 @@ impl Rgb {
 /// Whether a quad of scaled Jacobian `sj` is inverted: at or below 0 (as
 /// [`quadopt::QualityStats::inverted`] counts), or NaN.
 pub fn is_inverted(sj: f64) -> bool {
-    !(sj > 0.0)
+    sj <= 0.0 || sj.is_nan()
 }
 
 /// The fill colour of a scaled Jacobian: dark red at -1, red at 0, white at 1.

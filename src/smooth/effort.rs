@@ -1,0 +1,130 @@
+//! Effort presets: how much work a run spends for how much quality.
+//!
+//! One default cannot be both the fastest and the best: the sweeps reach most of the quality
+//! in a few milliseconds on a small mesh, and the max-min stage buys the last 0.1-0.3 of the
+//! minimum at many times that. A preset decides the sweep budget and how much of the max-min
+//! stage runs; the options the caller sets still apply on top of it ([`Options::sweep_cap`]:
+//! `max_iterations` caps every preset; `max_min = false` turns the stage off in every preset).
+//! What each preset is measured against is in docs/performance.md.
+
+use super::maxmin::MaxMinSettings;
+use super::options::Options;
+use std::str::FromStr;
+
+/// How much work a run spends on quality. Every preset keeps every guarantee of a run (no more
+/// inverted quads, a minimum never below the input's, fixed vertices untouched, the boundary on
+/// the original polyline, the same result on any thread count); they differ in how far they
+/// take the quality.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Effort {
+    /// For meshers that smooth inside their own loop: the sweeps with the guard and
+    /// untangling, at most [`Effort::FAST_SWEEPS`] of them, and no max-min stage.
+    Fast,
+    /// The default: the sweeps until the quality stops improving, then a max-min stage that
+    /// stops when it stops paying.
+    #[default]
+    Balanced,
+    /// The highest quality: the sweeps, then a max-min stage that works on the whole mesh and
+    /// tries harder to leave its local equilibria.
+    Best,
+}
+
+impl Effort {
+    /// Every preset, fastest first.
+    pub const ALL: [Effort; 3] = [Effort::Fast, Effort::Balanced, Effort::Best];
+
+    /// Sweep budget of [`Effort::Fast`] (untangling sweeps not counted).
+    pub const FAST_SWEEPS: usize = 10;
+
+    /// The short name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Effort::Fast => "fast",
+            Effort::Balanced => "balanced",
+            Effort::Best => "best",
+        }
+    }
+
+    /// The most sweeps the preset runs (before [`Options::max_iterations`] caps it further).
+    pub(crate) fn sweep_budget(self) -> usize {
+        match self {
+            Effort::Fast => Effort::FAST_SWEEPS,
+            Effort::Balanced | Effort::Best => usize::MAX,
+        }
+    }
+
+    /// The preset's max-min stage, `None` for none.
+    pub(crate) fn max_min_settings(self) -> Option<MaxMinSettings> {
+        match self {
+            Effort::Fast => None,
+            Effort::Balanced => Some(MaxMinSettings::default()),
+            Effort::Best => Some(MaxMinSettings::default()),
+        }
+    }
+}
+
+impl FromStr for Effort {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Effort::ALL
+            .into_iter()
+            .find(|e| e.name() == s)
+            .ok_or_else(|| format!("unknown effort '{s}' (expected fast, balanced or best)"))
+    }
+}
+
+impl std::fmt::Display for Effort {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Options {
+    /// The sweep cap of a run: [`Options::max_iterations`], or the preset's budget when that
+    /// is smaller.
+    pub fn sweep_cap(&self) -> usize {
+        self.max_iterations.min(self.effort.sweep_budget())
+    }
+
+    /// The settings of the max-min stage this run uses: the preset's, `None` when the preset
+    /// has no stage or [`Options::max_min`] is off.
+    pub(crate) fn max_min_settings(&self) -> Option<MaxMinSettings> {
+        let settings = self.effort.max_min_settings().filter(|_| self.max_min)?;
+        Some(MaxMinSettings { max_boundary_deviation: self.max_boundary_deviation, ..settings })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_balanced_is_the_default() {
+        for e in Effort::ALL {
+            assert_eq!(e.name().parse::<Effort>(), Ok(e));
+            assert_eq!(e.to_string(), e.name());
+        }
+        assert!("medium".parse::<Effort>().unwrap_err().contains("fast, balanced or best"));
+        assert_eq!(Effort::default(), Effort::Balanced);
+        assert_eq!(Options::default().effort, Effort::Balanced);
+    }
+
+    #[test]
+    fn the_callers_options_apply_on_top_of_every_preset() {
+        for e in Effort::ALL {
+            let o = Options::default().with_effort(e);
+            assert_eq!(o.effort, e);
+            // max_iterations caps every preset.
+            assert_eq!(o.clone().with_max_iterations(3).sweep_cap(), 3);
+            // max_min = false turns every preset's stage off.
+            assert!(o.clone().with_max_min(false).max_min_settings().is_none());
+        }
+        assert_eq!(Options::fast().sweep_cap(), Effort::FAST_SWEEPS);
+        assert!(Options::fast().max_min_settings().is_none());
+        assert_eq!(Options::balanced().sweep_cap(), Options::DEFAULT.max_iterations);
+        assert!(Options::balanced().max_min_settings().is_some());
+        assert!(Options::best().max_min_settings().is_some());
+        let deviation = Options::best().with_max_boundary_deviation(Some(0.25));
+        assert_eq!(deviation.max_min_settings().unwrap().max_boundary_deviation, Some(0.25));
+    }
+}

@@ -29,7 +29,9 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use quadopt::Features;
 use quadopt::io::{self, Encoding, Format, MeshData, MshVersion};
-use quadopt::{BoundaryMode, DVec2, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize};
+use quadopt::{
+    BoundaryMode, DVec2, Effort, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize,
+};
 use quadopt::{Topology, VertexKind};
 use std::collections::HashMap;
 
@@ -305,8 +307,9 @@ fn boundary_mode() -> impl Strategy<Value = BoundaryMode> {
 }
 
 /// Options from drawn values, every field set; the stopping rule is drawn with the energy
-/// rule's own flag and the max-min stage with the guard's flag, so both rules and both stage
-/// settings are covered without extra draws.
+/// rule's own flag, the max-min stage with the guard's flag and the effort preset with the
+/// iteration cap, so both rules, both stage settings and every preset are covered without
+/// extra draws.
 fn drawn_options(
     (method, boundary, lambda): (Method, BoundaryMode, f64),
     (tau, tau_absolute, max_iterations): (f64, bool, usize),
@@ -328,6 +331,7 @@ fn drawn_options(
         .with_untangle(untangle)
         .with_keep_best(keep_best)
         .with_max_boundary_deviation(max_boundary_deviation)
+        .with_effort(Effort::ALL[max_iterations % Effort::ALL.len()])
 }
 
 /// Valid options of every kind, with a small iteration cap.

@@ -235,7 +235,10 @@ impl Builder {
                     h,
                     fill,
                     stroke: None,
-                    tooltip: Some(format!("{name} {range}: {} quads", counts[series][bin])),
+                    tooltip: Some(format!(
+                        "{name} {range}: {}",
+                        crate::plural::count(counts[series][bin], "quad", "quads")
+                    )),
                 });
             }
             self.push(Item::Text {
@@ -412,7 +415,7 @@ mod tests {
         let mut total = [0usize; 2];
         for item in &p.items {
             if let Item::Rect { tooltip: Some(t), .. } = item {
-                let n: usize = t.rsplit(": ").next().unwrap().trim_end_matches(" quads").parse().unwrap();
+                let n: usize = t.rsplit(": ").next().unwrap().split(' ').next().unwrap().parse().unwrap();
                 total[usize::from(t.starts_with("optimized"))] += n;
             }
         }

@@ -224,7 +224,10 @@ fn malformed_files_give_one_line_errors() {
     let mut tri = text.clone();
     let nine = line + tri[line..].find('9').unwrap();
     tri.replace_range(nine..nine + 1, "5");
-    assert_eq!(err(tri.as_bytes()), "unsupported: cell 0 is of VTK type 5; only quads (type 9) are read");
+    assert_eq!(
+        err(tri.as_bytes()),
+        "unsupported: cell 0 is of VTK type 5; only quads (type 9) are read (cell numbers are 0-based)"
+    );
     let conn = text.find(r#"Name="connectivity""#).unwrap();
     let line = conn + text[conn..].find('\n').unwrap() + 1;
     let mut far = text.clone();
@@ -237,7 +240,10 @@ fn malformed_files_give_one_line_errors() {
     let mut off = text.clone();
     let four = line + off[line..].find('4').unwrap();
     off.replace_range(four..four + 1, "3");
-    assert_eq!(err(off.as_bytes()), "offsets: cell 0 ends at 3 after starting at 0 (a quad has 4 vertices)");
+    assert_eq!(
+        err(off.as_bytes()),
+        "offsets: cell 0 ends at 3 after starting at 0 (a quad has 4 vertices; cell numbers are 0-based)"
+    );
 
     // Not VTU at all, or another dataset type.
     assert_eq!(err(b"<html></html>"), "not a VTK XML file (no <VTKFile>)");

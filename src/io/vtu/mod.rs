@@ -73,13 +73,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
     for c in 0..m {
         if types[c] != VTK_QUAD {
             return Err(IoError::Unsupported(format!(
-                "cell {c} is of VTK type {}; only quads (type 9) are read",
+                "cell {c} is of VTK type {}; only quads (type 9) are read (cell numbers are 0-based)",
                 types[c]
             )));
         }
         if offsets[c] != start + 4 {
             return Err(bad(format!(
-                "offsets: cell {c} ends at {} after starting at {start} (a quad has 4 vertices)",
+                "offsets: cell {c} ends at {} after starting at {start} (a quad has 4 vertices; cell numbers are 0-based)",
                 offsets[c]
             )));
         }

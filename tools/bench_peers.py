@@ -777,17 +777,23 @@ def build_peer(peer_dir, out_dir, exe_name, sources):
     return exe
 
 
+def run_driver(cmd, cpu, env=None):
+    """Runs a peer's driver, appending its CPU seconds to `cpu`; returns the process and the JSON
+    report on its last stdout line (a RuntimeError when there is none)."""
+    c0 = child_cpu()
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    cpu.append(child_cpu() - c0)
+    try:
+        return r, json.loads(r.stdout.strip().splitlines()[-1])
+    except (ValueError, IndexError):
+        raise RuntimeError(r.stderr.strip() or "no report")
+
+
 def run_dmo(exe, in_path, out_path, repeat):
     times, cpu = [], []
     env = dict(os.environ, OMP_NUM_THREADS="1")
     for _ in range(repeat):
-        c0 = child_cpu()
-        r = subprocess.run([exe, "--metric", "vsj", in_path, out_path], capture_output=True, text=True, env=env)
-        cpu.append(child_cpu() - c0)
-        try:
-            j = json.loads(r.stdout.strip().splitlines()[-1])
-        except (ValueError, IndexError):
-            raise RuntimeError(r.stderr.strip() or "no report")
+        r, j = run_driver([exe, "--metric", "vsj", in_path, out_path], cpu, env)
         if r.returncode != 0 or not j.get("ok"):
             raise RuntimeError(j.get("error") or r.stderr.strip())
         if j.get("threads") != 1:
@@ -815,13 +821,7 @@ def run_getme(exe, in_path, out_path, repeat, mode):
     for _ in range(repeat):
         if times and times[0] > LONG_RUN:
             break
-        c0 = child_cpu()
-        r = subprocess.run([exe, mode, in_path, out_path], capture_output=True, text=True)
-        cpu.append(child_cpu() - c0)
-        try:
-            j = json.loads(r.stdout.strip().splitlines()[-1])
-        except (ValueError, IndexError):
-            raise RuntimeError(r.stderr.strip() or "no report")
+        r, j = run_driver([exe, mode, in_path, out_path], cpu)
         if r.returncode != 0 or not j.get("ok"):
             raise GetmeRefused(j.get("error") or r.stderr.strip(), j.get("input_valid"))
         times.append(j["seconds"])

@@ -104,7 +104,9 @@ fn bars(svg: &str) -> Vec<(String, String, usize)> {
             let t = &r[r.find("<title>")? + 7..r.find("</title>")?];
             let (name, rest) = t.split_once(' ')?;
             let (bin, count) = rest.rsplit_once(": ")?;
-            Some((name.to_string(), bin.to_string(), count.trim_end_matches(" quads").parse().ok()?))
+            // "1 quad", "2 quads": the tooltip counts in the singular and the plural.
+            let count = count.strip_suffix(" quads").or_else(|| count.strip_suffix(" quad"))?;
+            Some((name.to_string(), bin.to_string(), count.parse().ok()?))
         })
         .collect()
 }

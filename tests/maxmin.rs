@@ -1,4 +1,4 @@
-//! The max-min stage (src/smooth/maxmin.rs): known optima reached, the global minimum
+//! The max-min stage (src/smooth/maxmin/): known optima reached, the global minimum
 //! monotone, fixed vertices untouched, boundary vertices on the original boundary, no valid
 //! quad inverted, the same result on any thread count.
 

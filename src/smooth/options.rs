@@ -244,7 +244,7 @@ pub struct Options {
     /// boundary it replaces, relative to that edge's length (`None`: unlimited). Default:
     /// `None`.
     pub max_boundary_deviation: Option<f64>,
-    /// After the sweeps, the max-min stage (`src/smooth/maxmin.rs`): the vertices of the worst
+    /// After the sweeps, the max-min stage (`src/smooth/maxmin/`): the vertices of the worst
     /// quads move to maximize their star's minimum scaled Jacobian, so the global minimum
     /// rises and never falls, as far as the [`Effort`] preset takes it. `false` turns the
     /// stage off in every preset. Default: true.

@@ -354,3 +354,42 @@ fn a_rejected_stage_is_retried_without_its_escapes() {
     assert!(stage.before.min < 0.6 && report.output.min > 0.7, "{:?} -> {:?}", stage.before, report.output);
     assert!(report.output.avg >= stage.before.avg - TOLERANCE, "{:?} -> {:?}", stage.before, report.output);
 }
+
+/// Mesquite's copy-morph-for-ricoh (CI-only), a 3D surface flattened onto a plane: untangling
+/// cannot remove its folds and only adds inverted quads, so it stops after
+/// 20 sweeps without a new lowest count instead of running to its cap of 200; the run's
+/// guarantees hold all the same.
+#[test]
+fn untangling_stops_when_it_stops_paying() {
+    let Some(dir) =
+        shared::mesquite("untangling_stops_when_it_stops_paying (Mesquite's copy-morph-for-ricoh)")
+    else {
+        return;
+    };
+    let data = io::read_mesh(dir.join("untangled/copy-morph-for-ricoh.cub.vtk")).unwrap();
+    let mut mesh = PlanarMesh::new(&data).unwrap().mesh;
+    let report = quadopt::optimize(&mut mesh, &Options::fast()).unwrap();
+    assert!(report.untangle_sweeps <= 25, "{} untangling sweeps", report.untangle_sweeps);
+    assert!(report.output.inverted <= report.input.inverted && report.output.min >= report.input.min);
+}
+
+/// Mesquite's hole_scheme_opp_bias (CI-only): 174 equal quads that the sweeps cannot improve.
+/// `fast` stops once two sweeps in a row leave the kept iterate as it was, and loses nothing
+/// against its full budget of sweeps.
+#[test]
+fn fast_stops_when_its_sweeps_stop_changing_what_it_keeps() {
+    let Some(dir) = shared::mesquite("fast_stops_when_its_sweeps_stop_changing_what_it_keeps") else {
+        return;
+    };
+    let data = io::read_mesh(dir.join("untangled/hole_scheme_opp_bias.vtk")).unwrap();
+    let mesh = PlanarMesh::new(&data).unwrap().mesh;
+    let fast = quadopt::optimize(&mut mesh.clone(), &Options::fast()).unwrap();
+    // The same sweeps without the stale stop: the balanced preset's, capped at fast's budget.
+    let budget = Options::balanced().with_max_min(false).with_max_iterations(quadopt::Effort::FAST_SWEEPS);
+    let full = quadopt::optimize(&mut mesh.clone(), &budget).unwrap();
+    assert!(fast.iterations < full.iterations, "{} sweeps against {}", fast.iterations, full.iterations);
+    assert_eq!(
+        (fast.output.inverted, fast.output.min, fast.output.avg),
+        (full.output.inverted, full.output.min, full.output.avg)
+    );
+}

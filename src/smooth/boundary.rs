@@ -17,11 +17,12 @@
 //! Positions of moving boundary vertices are always evaluated from their arclength on the
 //! original polyline, so they stay on it up to roundoff.
 
-use super::embedded_polygon::{bisect, bisecting_rotation};
+use super::embedded_polygon::{bisect, bisecting_rotation, bisector_direction};
 use super::options::BoundaryMode;
 use crate::features::Features;
 use crate::topology::Topology;
 use glam::DVec2;
+use std::cell::Cell;
 
 /// Keep at least this fraction of the neighbour-to-neighbour arclength between a vertex and
 /// each of its boundary neighbours, so boundary edges never collapse.
@@ -141,6 +142,16 @@ impl BoundaryGeometry {
         self.point_on(self.segment_at(l, s))
     }
 
+    /// [`BoundaryGeometry::eval`], trying first the segment at index `hint` of the loop
+    /// (updated to the one found): the same point, without a search when successive
+    /// arclengths fall on one segment (a root finder's iterates, a walk along the loop).
+    fn eval_near(&self, l: usize, s: f64, hint: &Cell<usize>) -> DVec2 {
+        let mut i = hint.get();
+        let point = self.point_on(self.segment_near(l, s, &mut i));
+        hint.set(i);
+        point
+    }
+
     /// The point a fraction `t` of the way along the segment between two slots' original
     /// positions (as [`BoundaryGeometry::segment_at`] gives them).
     fn point_on(&self, (p0, p1, t): (usize, usize, f64)) -> DVec2 {
@@ -201,6 +212,7 @@ impl BoundaryGeometry {
         let len = self.loop_length[l];
         let count = b - a;
         let mut best = (f64::INFINITY, lo);
+        let hint = Cell::new(usize::MAX);
         // Walk the segments from the one containing lo until past hi (at most once round).
         let start = self.arclength[a..b].partition_point(|&c| c <= lo.rem_euclid(len)).saturating_sub(1);
         let mut base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
@@ -222,12 +234,52 @@ impl BoundaryGeometry {
                 0.0
             };
             let s = (s0 + t * (s1 - s0)).clamp(lo, hi);
-            let dist = (self.eval(l, s) - q).length_squared();
+            let dist = (self.eval_near(l, s, &hint) - q).length_squared();
             if dist < best.0 {
                 best = (dist, s);
             }
         }
         best.1
+    }
+
+    /// The arclength in the unwrapped range [lo, hi] of loop `l` where the ray from `origin`
+    /// along `direction` crosses the polyline from its left (the cross product of the
+    /// point's offset from `origin` with `direction` positive at lo, negative at hi):
+    /// `None` unless it is positive at lo and negative at hi and a crossing lies ahead of
+    /// `origin`. The cross product is linear along each segment, so each crossing is exact
+    /// up to rounding.
+    fn ray_crossing(&self, l: usize, origin: DVec2, direction: DVec2, lo: f64, hi: f64) -> Option<f64> {
+        let side = |s: f64| (self.eval(l, s) - origin).perp_dot(direction);
+        if !(side(lo) > 0.0 && side(hi) < 0.0) {
+            return None;
+        }
+        let (a, b) = self.loop_slots(l);
+        let len = self.loop_length[l];
+        let count = b - a;
+        let start = self.arclength[a..b].partition_point(|&c| c <= lo.rem_euclid(len)).saturating_sub(1);
+        let mut base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
+        for k in 0..=count {
+            let i = (start + k) % count;
+            if k > 0 && i == 0 {
+                base += len;
+            }
+            let s0 = base + self.arclength[a + i];
+            let s1 = base + if i + 1 < count { self.arclength[a + i + 1] } else { len };
+            if s0 >= hi {
+                break;
+            }
+            let (p0, p1) = (self.origin[a + i], self.origin[a + (i + 1) % count]);
+            let (g0, g1) = ((p0 - origin).perp_dot(direction), (p1 - origin).perp_dot(direction));
+            if g0 > 0.0 && g1 <= 0.0 && s1 > s0 {
+                let t = g0 / (g0 - g1);
+                let s = s0 + t * (s1 - s0);
+                let ahead = (p0 + (p1 - p0) * t - origin).dot(direction) > 0.0;
+                if ahead && s > lo && s < hi {
+                    return Some(s);
+                }
+            }
+        }
+        None
     }
 
     /// How far the chord of loop `l` from arclength `s0` to `s1` (unwrapped, s0 <= s1) is
@@ -415,8 +467,17 @@ pub fn update(
             // f(s_prev) > 0 > f(s_next): at s_prev v sits on n2 (the previous boundary vertex)
             // and must turn counter-clockwise onto the bisector, at s_next it sits on n0 and
             // must turn clockwise. Bisection finds the sign change.
-            let f = |t: f64| bisecting_rotation(geometry.eval(l, t), n1, n0, n2).unwrap_or(0.0);
-            bracketed_root(f, s_prev, s_next, 1e-13 * len)
+            // Where the bisector ray from n1 crosses the polyline: in closed form, segment by
+            // segment (the rotation's sign is that of a cross product linear along a
+            // segment); the root finder only where the crossing is not a clean one.
+            let crossing = bisector_direction(n1, n0, n2)
+                .and_then(|bis| geometry.ray_crossing(l, n1, bis, s_prev, s_next));
+            crossing.unwrap_or_else(|| {
+                let hint = Cell::new(usize::MAX);
+                let f =
+                    |t: f64| bisecting_rotation(geometry.eval_near(l, t, &hint), n1, n0, n2).unwrap_or(0.0);
+                bracketed_root(f, s_prev, s_next, 1e-13 * len)
+            })
         }
         BoundaryMode::Snap => geometry.project(l, rotated, lo, hi),
     };
@@ -452,6 +513,7 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::QuadMesh;
 
     #[test]
     fn point_segment_distances() {
@@ -467,6 +529,61 @@ mod tests {
         // A jump (as the wrapped angle has) is still bracketed.
         let r = bracketed_root(|x| if x < 1.25 { 1.0 } else { -1.0 }, 0.0, 2.0, 1e-12);
         assert!((r - 1.25).abs() < 1e-11, "{r}");
+    }
+
+    #[test]
+    fn the_ray_crossing_is_the_root_the_root_finder_finds() {
+        // A 6x4 grid with its boundary jittered: one loop of 20 vertices, no two segments in line.
+        let grid = crate::test_meshes::grid(6, 4);
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let points: Vec<DVec2> = grid
+            .points()
+            .iter()
+            .map(|&p| {
+                let inside = p.x > 0.0 && p.y > 0.0 && p.x < 6.0 && p.y < 4.0;
+                if inside { p } else { p + 0.2 * DVec2::new(rnd(), rnd()) }
+            })
+            .collect();
+        let mesh = QuadMesh::new(points, grid.quads().to_vec(), None).unwrap();
+        let topo = Topology::new(&mesh);
+        let features = Features::new(&mesh, &topo, 180.0, true);
+        let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);
+        let len = geometry.loop_length(0);
+        let (mut found, mut refused) = (0, 0);
+        for _ in 0..5_000 {
+            let origin = DVec2::new(3.0 + 2.5 * rnd(), 2.0 + 1.5 * rnd());
+            let direction = DVec2::from_angle(std::f64::consts::PI * rnd());
+            let lo = 2.0 * len * rnd().abs();
+            let hi = lo + len * (0.05 + 0.3 * rnd().abs());
+            let rotation = |s: f64| {
+                let a = geometry.eval(0, s) - origin;
+                a.perp_dot(direction).atan2(a.dot(direction))
+            };
+            let Some(s) = geometry.ray_crossing(0, origin, direction, lo, hi) else {
+                // Refused only where the root finder's bracket does not hold.
+                let (a, b) = (rotation(lo), rotation(hi));
+                let crossing_ahead = a > 0.0 && b < 0.0 && a < 1.5 && b > -1.5;
+                refused += 1;
+                assert!(!crossing_ahead || (a - b).abs() > 1.0, "refused a clean crossing in [{lo}, {hi}]");
+                continue;
+            };
+            found += 1;
+            assert!(s > lo && s < hi);
+            let a = geometry.eval(0, s) - origin;
+            assert!(a.dot(direction) > 0.0, "the crossing is behind the origin");
+            assert!(
+                a.perp_dot(direction).abs() <= 1e-12 * a.length(),
+                "{} off the ray",
+                a.perp_dot(direction)
+            );
+            // Where the rotation changes sign only once, the root finder finds the same point.
+            let samples: Vec<f64> = (0..=64).map(|i| rotation(lo + (hi - lo) * i as f64 / 64.0)).collect();
+            if samples.windows(2).filter(|w| (w[0] > 0.0) != (w[1] > 0.0)).count() == 1 {
+                let root = bracketed_root(rotation, lo, hi, 1e-13 * len);
+                assert!((root - s).abs() <= 1e-9 * len, "crossing {s}, root {root}");
+            }
+        }
+        assert!(found > 500 && refused > 500, "{found} crossings, {refused} refused: the test sees both");
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! What each preset is measured against is in docs/performance.md.
 
 use super::maxmin::MaxMinSettings;
-use super::options::Options;
+use super::options::{Options, StopRule};
 use std::str::FromStr;
 
 /// How much work a run spends on quality. Every preset keeps every guarantee of a run (no more
@@ -20,12 +20,11 @@ pub enum Effort {
     /// For meshers that smooth inside their own loop: the sweeps with the guard and
     /// untangling, at most [`Effort::FAST_SWEEPS`] of them, and no max-min stage.
     Fast,
-    /// The default: the sweeps until the quality stops improving, then a max-min stage that
-    /// stops when it stops paying.
+    /// The default: the sweeps until the quality stops improving, then the max-min stage.
     #[default]
     Balanced,
-    /// The highest quality: the sweeps, then a max-min stage that works on the whole mesh and
-    /// tries harder to leave its local equilibria.
+    /// The highest quality: today the same run as [`Effort::Balanced`]; the preset that will
+    /// take a stronger stage (see docs/performance.md, "Presets").
     Best,
 }
 
@@ -35,6 +34,12 @@ impl Effort {
 
     /// Sweep budget of [`Effort::Fast`] (untangling sweeps not counted).
     pub const FAST_SWEEPS: usize = 10;
+
+    /// Sweeps in a row that leave the kept iterate unchanged after which [`Effort::Fast`]
+    /// stops (under the quality stopping rule): on a mesh the sweeps cannot improve (a
+    /// perfect grid, a uniform one at its best) the rest of its budget would be spent on
+    /// vertices stepping back and forth by rounding-level amounts.
+    pub const FAST_STALE_SWEEPS: usize = 2;
 
     /// The short name used on the command line and in reports.
     pub fn name(self) -> &'static str {
@@ -49,7 +54,19 @@ impl Effort {
     pub(crate) fn sweep_budget(self) -> usize {
         match self {
             Effort::Fast => Effort::FAST_SWEEPS,
+            // A cap on the sweeps costs these presets most where the sweeps converge slowly:
+            // measured with 20 sweeps, a graded boundary layer ends at 0.47/0.92 instead of
+            // the 1.00/1.00 the sweeps reach (tests/hard_meshes.rs).
             Effort::Balanced | Effort::Best => usize::MAX,
+        }
+    }
+
+    /// Sweeps in a row without a change of the kept iterate after which the preset stops
+    /// (`None`: the stopping rule alone decides).
+    pub(crate) fn stale_sweeps(self) -> Option<usize> {
+        match self {
+            Effort::Fast => Some(Effort::FAST_STALE_SWEEPS),
+            Effort::Balanced | Effort::Best => None,
         }
     }
 
@@ -81,9 +98,13 @@ impl std::fmt::Display for Effort {
 
 impl Options {
     /// The sweep cap of a run: [`Options::max_iterations`], or the preset's budget when that
-    /// is smaller.
+    /// is smaller. The budget belongs to the quality stopping rule: a caller who chose the
+    /// paper's energy rule ([`StopRule::Energy`]) runs until it or `max_iterations` stops.
     pub fn sweep_cap(&self) -> usize {
-        self.max_iterations.min(self.effort.sweep_budget())
+        match self.stop {
+            StopRule::Quality => self.max_iterations.min(self.effort.sweep_budget()),
+            StopRule::Energy => self.max_iterations,
+        }
     }
 
     /// The settings of the max-min stage this run uses: the preset's, `None` when the preset
@@ -116,12 +137,16 @@ mod tests {
             assert_eq!(o.effort, e);
             // max_iterations caps every preset.
             assert_eq!(o.clone().with_max_iterations(3).sweep_cap(), 3);
+            // The energy rule runs to max_iterations whatever the preset.
+            let energy = o.clone().with_stop(StopRule::Energy).with_max_iterations(40);
+            assert_eq!(energy.sweep_cap(), 40);
             // max_min = false turns every preset's stage off.
             assert!(o.clone().with_max_min(false).max_min_settings().is_none());
         }
         assert_eq!(Options::fast().sweep_cap(), Effort::FAST_SWEEPS);
         assert!(Options::fast().max_min_settings().is_none());
         assert_eq!(Options::balanced().sweep_cap(), Options::DEFAULT.max_iterations);
+        assert_eq!(Options::best().sweep_cap(), Options::DEFAULT.max_iterations);
         assert!(Options::balanced().max_min_settings().is_some());
         assert!(Options::best().max_min_settings().is_some());
         let deviation = Options::best().with_max_boundary_deviation(Some(0.25));

@@ -126,6 +126,17 @@ pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Optio
     Some(a.perp_dot(bis).atan2(a.dot(bis)))
 }
 
+/// The unit direction from `p` that bisects the angle between `prev` and `next` (the
+/// direction [`bisecting_rotation`] measures against), `None` when either is at `p`.
+#[inline]
+pub fn bisector_direction(p: DVec2, prev: DVec2, next: DVec2) -> Option<DVec2> {
+    let (b, c) = (prev - p, next - p);
+    if b == DVec2::ZERO || c == DVec2::ZERO {
+        return None;
+    }
+    Some(bisector(c, b))
+}
+
 /// Eq. 5: `v` rotated about `p` by `theta` (the code folds it into the target point; the
 /// tests check the fold against it).
 #[cfg(test)]

@@ -11,6 +11,10 @@ use crate::topology::Topology;
 use glam::DVec2;
 use rayon::prelude::*;
 
+/// A star whose minimum is at least this is perfect up to rounding: the guard does not look
+/// for a way to raise it.
+const PERFECT: f64 = 1.0 - 1e-9;
+
 /// Step halvings tried before a guarded vertex stays where it is.
 const MAX_HALVINGS: usize = 8;
 
@@ -213,6 +217,10 @@ pub fn guarded_position(
     let required = current.min(floor);
     if let Some(q) = longest_step(points, quads, topo, v, target, |m| m >= required) {
         return q;
+    }
+    if current >= PERFECT {
+        // Nothing left to gain: every quad of the star is a rectangle up to rounding.
+        return p;
     }
     super::untangle::untangle_vertex(points, quads, topo, v)
         .and_then(|t| longest_step(points, quads, topo, v, t, |m| m > current))

@@ -125,7 +125,7 @@ const ROUNDING: f64 = 1e-12;
 /// Whether two kept iterates rank the same. An iterate better by rounding only (1e-16) may
 /// replace the kept one; counted as a change, it would make the stop depend on rounding, and
 /// the run would not be the same after scaling or translating the mesh.
-fn same(a: &QualityStats, b: &QualityStats) -> bool {
+pub(crate) fn same(a: &QualityStats, b: &QualityStats) -> bool {
     a.inverted == b.inverted && (a.min - b.min).abs() <= ROUNDING && (a.avg - b.avg).abs() <= ROUNDING
 }
 

@@ -12,7 +12,7 @@ use super::maxmin::{self, MaxMinSettings};
 use super::options::{BoundaryMode, Method, Options, StopRule};
 use super::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves, improves_with_tie, stats_of};
 use super::report::{MaxMinGain, Progress};
-use super::stopping::Stopper;
+use super::stopping::{self, Stopper};
 use super::{angle_based, embedded_polygon, energy, guard, laplacian, untangle};
 use crate::features::Features;
 use crate::quality::QualityStats;
@@ -44,12 +44,15 @@ struct Update {
     energy: f64,
     /// How far it moved ([`guard::move_length`]; 0 without the guard).
     moved: f32,
+    /// An interior vertex the guard kept where it was although its target differs: stuck
+    /// until something in its star moves ([`Since::still_stuck`]).
+    stuck: bool,
 }
 
 impl Update {
     /// The place of a vertex that does not move.
     const NONE: Update =
-        Update { vertex: u32::MAX, position: DVec2::ZERO, param: 0.0, energy: 0.0, moved: 0.0 };
+        Update { vertex: u32::MAX, position: DVec2::ZERO, param: 0.0, energy: 0.0, moved: 0.0, stuck: false };
 }
 
 /// Result of a pass.
@@ -124,6 +127,16 @@ impl RunContext<'_> {
         // without evaluating the star (see guard::certainly_at_least).
         let mut slack = Vec::new();
         let mut moved = if opts.guard { vec![0.0f32; points.len()] } else { Vec::new() };
+        // With the guard, the class step at which each vertex last moved, and at which each
+        // stuck vertex was found stuck (`NOT_STUCK` otherwise): a stuck vertex whose star has
+        // not moved since would be stuck again, and is not evaluated again (the guard's
+        // search for a way out is most of a sweep's time on a converged mesh).
+        let (mut last_move, mut stuck) = if opts.guard {
+            (vec![0u32; points.len()], vec![NOT_STUCK; points.len()])
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let mut step = 0u32;
         let measure = |points: &[DVec2], values: &mut Vec<f64>, slack: &mut Vec<f32>| {
             if opts.guard {
                 guard::stats_and_slack(points, self.quads, self.floor, values, slack)
@@ -146,6 +159,9 @@ impl RunContext<'_> {
         let mut updates: Vec<Update> = Vec::with_capacity(largest_class);
         let mut initial_energy = f64::NAN;
         let (mut iterations, mut converged) = (0, false);
+        // Sweeps in a row that left the kept iterate as it was (see Effort::stale_sweeps).
+        let (stale_limit, mut stale) =
+            (opts.effort.stale_sweeps().filter(|_| opts.stop == StopRule::Quality), 0);
         let sweep_cap = opts.sweep_cap();
         while iterations < sweep_cap && !cancelled {
             let mut energy = 0.0;
@@ -153,12 +169,18 @@ impl RunContext<'_> {
             moved.fill(0.0);
             for c in 0..self.topo.colour_count() {
                 let class = self.topo.colour_class(c);
+                step += 1;
                 // One update per class member, written in place (no per-chunk buffers).
                 updates.clear();
                 updates.resize(class.len(), Update::NONE);
                 {
                     let (pts, prm) = (&points[..], &params[..]);
-                    let since = opts.guard.then_some(Since { slack: &slack, moved: &moved });
+                    let since = opts.guard.then_some(Since {
+                        slack: &slack,
+                        moved: &moved,
+                        last_move: &last_move,
+                        stuck: &stuck,
+                    });
                     let chunk_updates = |chunk: &[u32], out: &mut [Update]| {
                         self.chunk_updates(pts, prm, chunk, loop_modes, since, out);
                     };
@@ -173,11 +195,17 @@ impl RunContext<'_> {
                 }
                 // Sequential: the same sum whatever the thread count.
                 for u in updates.iter().filter(|u| u.vertex != Update::NONE.vertex) {
+                    let v = u.vertex as usize;
                     energy += u.energy;
-                    any_moved |= points[u.vertex as usize] != u.position;
-                    points[u.vertex as usize] = u.position;
+                    let moves = points[v] != u.position;
+                    any_moved |= moves;
+                    points[v] = u.position;
                     if opts.guard {
-                        moved[u.vertex as usize] = u.moved;
+                        moved[v] = u.moved;
+                        if moves {
+                            last_move[v] = step;
+                        }
+                        stuck[v] = if u.stuck { step } else { NOT_STUCK };
                     }
                     if let Some(slot) = self.geometry.slot(u.vertex as usize) {
                         params[slot] = u.param;
@@ -189,12 +217,14 @@ impl RunContext<'_> {
                 initial_energy = energy;
             }
             let stats = measure(&points, &mut values, &mut slack);
+            let kept_before = best_stats;
             if !self.inverts_a_valid_quad(&values) && improves_with_tie(&stats, &best_stats, &self.input, tie)
             {
                 best_stats = stats;
                 best_points.copy_from_slice(&points);
                 best_params.copy_from_slice(&params);
             }
+            stale = if stopping::same(&kept_before, &best_stats) { stale + 1 } else { 0 };
             let kept = if opts.keep_best { best_stats } else { stats };
             let verdict = stopper.after_sweep(&stats, &kept, energy);
             if let Some(cb) = progress.as_mut() {
@@ -213,7 +243,10 @@ impl RunContext<'_> {
             }
             // Under the quality rule a sweep that moved nothing ends the run: every later sweep
             // would repeat it. (The energy rule is the paper's: tau = 0 runs to the cap.)
-            if verdict.stop || (!any_moved && opts.stop == StopRule::Quality) {
+            if verdict.stop
+                || (!any_moved && opts.stop == StopRule::Quality)
+                || stale_limit.is_some_and(|limit| stale >= limit)
+            {
                 converged = true;
                 break;
             }
@@ -421,12 +454,19 @@ impl RunContext<'_> {
         let moved = p + opts.lambda * (target - p);
         // Next to coordinates near f64::MAX a target can overflow: then the vertex stays.
         let target = if moved.is_finite() { moved } else { p };
-        let position = if opts.guard && target != p && !self.certainly_at_least(points, v, target, since) {
-            guard::guarded_position(points, self.quads, self.topo, v, target, self.floor)
-        } else {
-            target
-        };
-        Update { vertex: v as u32, position, param: 0.0, energy, moved: 0.0 }
+        let (position, stuck) =
+            if opts.guard && target != p && !self.certainly_at_least(points, v, target, since) {
+                if since.is_some_and(|s| s.still_stuck(self.quads, self.topo, v)) {
+                    (p, true)
+                } else {
+                    let position =
+                        guard::guarded_position(points, self.quads, self.topo, v, target, self.floor);
+                    (position, position == p)
+                }
+            } else {
+                (target, false)
+            };
+        Update { vertex: v as u32, position, param: 0.0, energy, moved: 0.0, stuck }
     }
 
     /// Whether moving `v` to `target` certainly keeps its star at or above the guard's floor,
@@ -455,6 +495,7 @@ impl RunContext<'_> {
             param: current_param(self.geometry, params, v),
             energy,
             moved: 0.0,
+            stuck: false,
         };
         let Some(l) = self.geometry.loop_of(v) else { return stay(0.0) };
         let (step, at_target) = if loop_modes[l] == BoundaryMode::Auto {
@@ -464,7 +505,7 @@ impl RunContext<'_> {
             (self.boundary_candidate(points, params, v, loop_modes[l]), None)
         };
         let BoundaryMove { position: target, param, energy } = step;
-        let take = Update { vertex: v as u32, position: target, param, energy, moved: 0.0 };
+        let take = Update { vertex: v as u32, position: target, param, energy, moved: 0.0, stuck: false };
         if !opts.guard
             || target == p
             || (at_target.is_none() && self.certainly_at_least(points, v, target, since))
@@ -547,6 +588,27 @@ pub(crate) struct AutoCandidate {
 struct Since<'a> {
     slack: &'a [f32],
     moved: &'a [f32],
+    /// Per vertex: the class step at which it last moved in this pass.
+    last_move: &'a [u32],
+    /// Per vertex: the class step at which the guard found it stuck, or [`NOT_STUCK`].
+    stuck: &'a [u32],
+}
+
+/// [`Since::stuck`] of a vertex that was not stuck at its last update.
+const NOT_STUCK: u32 = u32::MAX;
+
+impl Since<'_> {
+    /// Whether interior vertex `v` was stuck at its last update and no vertex of its star has
+    /// moved since: its target and the guard's verdict depend on those positions only, so it
+    /// would be stuck again.
+    fn still_stuck(&self, quads: &[[u32; 4]], topo: &Topology, v: usize) -> bool {
+        let at = self.stuck[v];
+        at != NOT_STUCK
+            && topo
+                .vertex_quads(v)
+                .iter()
+                .all(|&q| quads[q as usize].iter().all(|&u| self.last_move[u as usize] < at))
+    }
 }
 
 fn current_param(geometry: &BoundaryGeometry, params: &[f64], v: usize) -> f64 {

@@ -24,8 +24,9 @@ edge ratio of a quad; "thin" after it: see below), and quadopt's time divided by
 wall-clock and CPU, where quadopt is the balanced preset (the default; the first preset run if
 balanced was not) (below 1: quadopt is faster; no CPU ratio where either CPU time is missing or
 under 1 ms, the noise of process accounting). "(!)" after a tool marks an output that failed a
-check (see the notes). --wide gives one row per mesh: per tool "min / avg (inverted), CPU s"
-(GETMe: its own seconds, "wall") and the CPU ratio.
+check (see the notes). --wide gives one row per mesh: per tool "min / avg (inverted), seconds"
+(each tool's own timer, as the dominance compares them), a peer run that no preset dominates
+marked "(not dominated)".
 
 Dominance
 ---------
@@ -1079,13 +1080,14 @@ def fmt_rows(rows):
 
 
 def fmt_wide(rows):
-    """One row per mesh: per tool "min / avg (inverted), CPU s" (a tool without a CPU time:
-    its own seconds, marked "wall") and the reference preset's CPU ratio to each peer."""
+    """One row per mesh: per tool "min / avg (inverted), seconds" (each tool's own timer, the
+    time the dominance compares); a peer run that no preset dominates is marked "(not
+    dominated)"."""
     tools = []
     for r in rows:
         if r["tool"] not in tools:
             tools.append(r["tool"])
-    cpu_ratio = {id(r): cpu for r, (_, cpu) in zip(rows, ratios(rows))}
+    left = {(n["mesh"], n["peer"]) for n in dominance(rows)["not_dominated"]}
     out = ["| mesh | quads | " + " | ".join(tools) + " |", "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
     for (mesh, nq), t in by_mesh(rows).items():
         cells = []
@@ -1099,12 +1101,10 @@ def fmt_wide(rows):
                 c += f" ({r['inverted']} inv.)"
             if name != "input" and is_thin(r, t.get("input")):
                 c += f" (thin {r['edge_ratio']:.0e})"
-            if r.get("cpu") is not None:
-                c += f", {fmt_seconds(r['cpu'])} s"
-            elif r.get("seconds") is not None:
-                c += f", {fmt_seconds(r['seconds'])} s wall"
-            if cpu_ratio[id(r)] is not None:
-                c += f" (q/t {cpu_ratio[id(r)]:.2g})"
+            if r.get("seconds") is not None:
+                c += f", {fmt_seconds(r['seconds'])} s"
+            if (mesh, name) in left:
+                c += " (not dominated)"
             if r.get("flags"):
                 c += " (!)"
             cells.append(c)
@@ -1221,7 +1221,7 @@ def parse_args():
     ap.add_argument("--no-gmsh", action="store_true", help="do not run gmsh's optimizers on file meshes")
     ap.add_argument("--repeat", type=int, help="runs per tool and mesh, median reported (default 3; 1 from 500k quads)")
     ap.add_argument("--wide", action="store_true",
-                    help="one row per mesh (min / avg, CPU seconds, the reference preset's CPU ratio per tool) instead of one per tool")
+                    help="one row per mesh (min / avg and each tool's own seconds per tool, peer runs no preset dominates marked) instead of one per tool")
     ap.add_argument("--json", metavar="PATH",
                     help="also write all rows (with every run's time) and the dominance summary as JSON to PATH ('-': stdout)")
     ap.add_argument("--from-json", metavar="PATH", help="print the table and the dominance of an earlier --json file instead of running")

@@ -7,8 +7,12 @@
 //! - Slide (Approach 2). Eq. 9 as printed oscillates (vertices jump 0.2-0.7 edge lengths per
 //!   sweep) and, applied along the current edges, shrinks curved boundaries. Instead v is a
 //!   point of the original boundary polyline, parametrized by arclength s, and we solve
-//!   "v(s) - n1 lies on the bisector" with a bracketed root-find between the arclengths of
-//!   its two boundary neighbours, where the bisecting rotation changes sign.
+//!   "v(s) - n1 lies on the bisector" between the arclengths of its two boundary neighbours,
+//!   where the bisecting rotation changes sign: in closed form, as the crossing of the
+//!   bisector ray from n1 with the polyline (the rotation's sign is that of a cross product
+//!   linear along each segment), with a bracketed root-find where the crossing is not clean.
+//!   The root-find, an atan2 per iterate and a segment search per point, was half of a fast
+//!   run's time on data/mazewheel.vtk (3.8 ms; 2.1 ms with the crossing).
 //! - Snap (Approach 1). v is rotated about n1 onto the bisector (Eq. 5), then projected back
 //!   onto the original polyline, but only onto the stretch between its two boundary
 //!   neighbours: snapping to the globally nearest boundary point reproduces the paper's

@@ -348,7 +348,7 @@ static void test_growable_structs(void) {
   CHECK(untouched);
 }
 
-/* The effort presets: the report says which ran; fast runs at most 10 sweeps and no max-min
+/* The effort presets: the report says which ran; fast runs at most 6 sweeps (Effort::FAST_SWEEPS) and no max-min
    stage; a caller's struct from before `effort` (the previous size) runs balanced, and a report
    of that size is written without the field. */
 static void test_effort(void) {
@@ -361,7 +361,7 @@ static void test_effort(void) {
   r = quadopt_report_init();
   grid_coords(xy, 1.6, 1.5);
   CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, &r), QUADOPT_STATUS_OK);
-  CHECK(r.effort == QUADOPT_EFFORT_FAST && r.max_min == 0 && r.iterations <= 10);
+  CHECK(r.effort == QUADOPT_EFFORT_FAST && r.max_min == 0 && r.iterations <= 6);
   CHECK(r.output.inverted == 0 && r.output.min > r.input.min);
   o.effort = QUADOPT_EFFORT_BEST;
   r = quadopt_report_init();

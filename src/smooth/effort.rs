@@ -36,7 +36,14 @@ impl Effort {
     pub const ALL: [Effort; 3] = [Effort::Fast, Effort::Balanced, Effort::Best];
 
     /// Sweep budget of [`Effort::Fast`] (untangling sweeps not counted).
-    pub const FAST_SWEEPS: usize = 10;
+    ///
+    /// Measured with `tools/bench_peers.py` (data/, Mesquite's planar meshes, the 9k and 186k
+    /// plates): with 6 sweeps the presets dominate 178-179 of 189 peer runs, with 10 sweeps
+    /// 176. Fewer sweeps answer gmsh's Relocate2D at its speed on four more meshes (mazewheel,
+    /// halfCirc, plate_1hole_fine, the 9k plate) and lose one comparison of quality (halfCirc's
+    /// average against Laplace2D's); 5 sweeps lose more (179 with noise, `fast` alone 130
+    /// against 136).
+    pub const FAST_SWEEPS: usize = 6;
 
     /// Sweeps in a row that leave the kept iterate unchanged after which [`Effort::Fast`]
     /// stops (under the quality stopping rule): on a mesh the sweeps cannot improve (a

@@ -235,7 +235,7 @@ pub struct TuneArgs {
     /// Step factor, in (0, 1].
     #[arg(long, default_value_t = Options::default().lambda, allow_negative_numbers = true)]
     lambda: f64,
-    /// Sweep cap (every preset; fast stops at 10 sweeps by itself).
+    /// Sweep cap (every preset; fast stops at 6 sweeps by itself).
     #[arg(long = "max-iter", default_value_t = Options::default().max_iterations)]
     max_iter: usize,
     /// Boundary vertices turning by more than this many degrees are corners.

@@ -281,8 +281,13 @@ impl RunContext<'_> {
         progress: &mut Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Option<MaxMinGain> {
         let settings = self.options.max_min_settings()?;
+        let full_recovery = MaxMinSettings::default().average_sweeps;
         let tries = if settings.escapes > 0 {
             vec![settings.clone(), MaxMinSettings { escapes: 0, ..settings }]
+        } else if settings.average_sweeps < full_recovery {
+            // A short stage (balanced's) whose rounds cost more average than its one recovery
+            // sweep gives back: tried again with the full recovery.
+            vec![settings.clone(), MaxMinSettings { average_sweeps: full_recovery, ..settings }]
         } else {
             vec![settings]
         };

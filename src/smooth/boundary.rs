@@ -210,27 +210,29 @@ impl BoundaryGeometry {
         Some((self.slot_vertex[a] as usize, self.slot_vertex[b] as usize, t))
     }
 
-    /// Arclength of the point nearest `q` on loop `l` within the unwrapped range [lo, hi].
-    fn project(&self, l: usize, q: DVec2, lo: f64, hi: f64) -> f64 {
+    /// The segments of loop `l` from the one holding the unwrapped arclength `lo` on, once
+    /// round the loop (and the first one again), with their unwrapped arclengths.
+    fn segments_from(&self, l: usize, lo: f64) -> impl Iterator<Item = Segment> + '_ {
         let (a, b) = self.loop_slots(l);
         let len = self.loop_length[l];
         let count = b - a;
-        let mut best = (f64::INFINITY, lo);
-        let hint = Cell::new(usize::MAX);
-        // Walk the segments from the one containing lo until past hi (at most once round).
         let start = self.arclength[a..b].partition_point(|&c| c <= lo.rem_euclid(len)).saturating_sub(1);
-        let mut base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
-        for k in 0..=count {
+        let first_base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
+        (0..=count).map(move |k| {
             let i = (start + k) % count;
-            if k > 0 && i == 0 {
-                base += len;
-            }
+            // The loop's start is passed once the walk wraps to slot 0.
+            let base = if start + k >= count { first_base + len } else { first_base };
             let s0 = base + self.arclength[a + i];
             let s1 = base + if i + 1 < count { self.arclength[a + i + 1] } else { len };
-            if s0 > hi {
-                break;
-            }
-            let (p0, p1) = (self.origin[a + i], self.origin[a + (i + 1) % count]);
+            Segment { s0, s1, p0: self.origin[a + i], p1: self.origin[a + (i + 1) % count] }
+        })
+    }
+
+    /// Arclength of the point nearest `q` on loop `l` within the unwrapped range [lo, hi].
+    fn project(&self, l: usize, q: DVec2, lo: f64, hi: f64) -> f64 {
+        let mut best = (f64::INFINITY, lo);
+        let hint = Cell::new(usize::MAX);
+        for Segment { s0, s1, p0, p1 } in self.segments_from(l, lo).take_while(|g| g.s0 <= hi) {
             let d = p1 - p0;
             let t = if d.length_squared() > 0.0 {
                 ((q - p0).dot(d) / d.length_squared()).clamp(0.0, 1.0)
@@ -257,22 +259,7 @@ impl BoundaryGeometry {
         if !(side(lo) > 0.0 && side(hi) < 0.0) {
             return None;
         }
-        let (a, b) = self.loop_slots(l);
-        let len = self.loop_length[l];
-        let count = b - a;
-        let start = self.arclength[a..b].partition_point(|&c| c <= lo.rem_euclid(len)).saturating_sub(1);
-        let mut base = lo - lo.rem_euclid(len); // unwrapped arclength of the loop's start
-        for k in 0..=count {
-            let i = (start + k) % count;
-            if k > 0 && i == 0 {
-                base += len;
-            }
-            let s0 = base + self.arclength[a + i];
-            let s1 = base + if i + 1 < count { self.arclength[a + i + 1] } else { len };
-            if s0 >= hi {
-                break;
-            }
-            let (p0, p1) = (self.origin[a + i], self.origin[a + (i + 1) % count]);
+        for Segment { s0, s1, p0, p1 } in self.segments_from(l, lo).take_while(|g| g.s0 < hi) {
             let (g0, g1) = ((p0 - origin).perp_dot(direction), (p1 - origin).perp_dot(direction));
             if g0 > 0.0 && g1 <= 0.0 && s1 > s0 {
                 let t = g0 / (g0 - g1);
@@ -393,6 +380,14 @@ fn bracketed_root(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
         }
     }
     0.5 * (x0 + x1)
+}
+
+/// One segment of a boundary loop, with the unwrapped arclengths of its ends.
+struct Segment {
+    s0: f64,
+    s1: f64,
+    p0: DVec2,
+    p1: DVec2,
 }
 
 /// A boundary vertex's candidate move.

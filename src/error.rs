@@ -28,6 +28,11 @@ pub enum Error {
          (vertex and quad numbers are 0-based)"
     )]
     NonManifoldEdge { a: u32, b: u32, count: usize, first: usize, second: usize },
+    /// A face has a number of vertices other than three or four.
+    #[error(
+        "face {face} has {corners} vertices; only triangles and quads are supported (face numbers are 0-based)"
+    )]
+    UnsupportedFace { face: usize, corners: usize },
     /// A vertex coordinate is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate (vertex numbers are 0-based)")]
     NonFiniteCoordinate { vertex: usize },

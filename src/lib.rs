@@ -33,6 +33,7 @@
 // else is internal; `testing` reaches a few internals for the crate's own integration tests.
 pub(crate) mod alloc;
 pub(crate) mod error;
+pub mod face;
 pub(crate) mod features;
 /// The C ABI (`include/quadopt.h`): with `pool`, the only modules with `unsafe` code. Hidden
 /// from the Rust documentation: Rust callers use the types above; C callers read the header.

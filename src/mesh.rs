@@ -31,11 +31,7 @@ pub struct QuadMesh {
     boundary_edges: usize,
 }
 
-/// Reverses a quad's orientation, keeping its first vertex.
-#[inline]
-fn reversed(q: [u32; 4]) -> [u32; 4] {
-    [q[0], q[3], q[2], q[1]]
-}
+use crate::face::{Face, corner_count, reversed};
 
 impl QuadMesh {
     /// Validates and builds a mesh.
@@ -51,13 +47,37 @@ impl QuadMesh {
     /// assert!(QuadMesh::new(vec![DVec2::ZERO; 3], vec![[0, 1, 2, 3]], None).is_err());
     /// ```
     pub fn new(points: Vec<DVec2>, quads: Vec<[u32; 4]>, fixed: Option<Vec<bool>>) -> Result<Self> {
+        Self::build(points, quads, fixed, false)
+    }
+
+    /// Validates and builds a quad-dominant mesh: faces of four vertices or, for a triangle,
+    /// three and [`crate::face::NO_VERTEX`] (see [`crate::face`]). A mesh without triangles is
+    /// the mesh [`QuadMesh::new`] builds.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use quadopt::{QuadMesh, face};
+    /// let points = vec![DVec2::new(0., 0.), DVec2::new(1., 0.), DVec2::new(1., 1.), DVec2::new(0., 1.), DVec2::new(2., 0.5)];
+    /// let mesh = QuadMesh::with_faces(points, vec![[0, 1, 2, 3], face::triangle(1, 4, 2)], None).unwrap();
+    /// assert_eq!((mesh.faces().len(), mesh.triangle_count()), (2, 1));
+    /// ```
+    pub fn with_faces(points: Vec<DVec2>, faces: Vec<Face>, fixed: Option<Vec<bool>>) -> Result<Self> {
+        Self::build(points, faces, fixed, true)
+    }
+
+    fn build(
+        points: Vec<DVec2>,
+        quads: Vec<Face>,
+        fixed: Option<Vec<bool>>,
+        triangles: bool,
+    ) -> Result<Self> {
         let n = points.len();
         let fixed = match fixed {
             Some(f) if f.len() != n => return Err(Error::FixedLengthMismatch { expected: n, got: f.len() }),
             Some(f) => f,
             None => try_filled(n, false, "fixed flags")?,
         };
-        validate_indices(&quads, n)?;
+        validate_indices(&quads, n, triangles)?;
         // Coordinates of vertices used by no quad are never read, but a NaN there is still
         // almost certainly a caller bug, so reject every non-finite coordinate.
         if let Some(v) = points.iter().position(|p| !p.is_finite()) {
@@ -94,9 +114,25 @@ impl QuadMesh {
         (&mut self.points, &self.quads)
     }
 
-    /// Quads, consistently oriented counter-clockwise.
-    pub fn quads(&self) -> &[[u32; 4]] {
+    /// Faces (quads, and triangles in a quad-dominant mesh: see [`crate::face`]),
+    /// consistently oriented counter-clockwise.
+    pub fn quads(&self) -> &[Face] {
         &self.quads
+    }
+
+    /// The faces: [`QuadMesh::quads`], named for a quad-dominant mesh.
+    pub fn faces(&self) -> &[Face] {
+        &self.quads
+    }
+
+    /// Number of triangles (faces with [`crate::face::NO_VERTEX`] fourth).
+    pub fn triangle_count(&self) -> usize {
+        self.quads.iter().filter(|f| crate::face::is_triangle(f)).count()
+    }
+
+    /// Quality statistics of the quads and of the triangles apart.
+    pub fn quality_by_face_kind(&self) -> crate::quality::ByFaceKind {
+        crate::quality::ByFaceKind::new(&self.quads, &self.quality_values())
     }
 
     /// Quads in the handedness the caller used: consistently oriented, but a component given
@@ -197,12 +233,14 @@ impl QuadMesh {
     }
 }
 
-fn validate_indices(quads: &[[u32; 4]], n: usize) -> Result<()> {
+/// Checks every face's indices; `triangles` lets a face end in [`crate::face::NO_VERTEX`].
+fn validate_indices(quads: &[Face], n: usize, triangles: bool) -> Result<()> {
     if quads.is_empty() {
         return Err(Error::NoQuads);
     }
     for (qi, q) in quads.iter().enumerate() {
-        for (c, &v) in q.iter().enumerate() {
+        let corners = if triangles { corner_count(q) } else { 4 };
+        for (c, &v) in q[..corners].iter().enumerate() {
             if v as usize >= n {
                 return Err(Error::IndexOutOfRange { quad: qi, corner: c, index: v as u64, vertex_count: n });
             }
@@ -219,12 +257,13 @@ type EdgeRecord = (u32, u32, u32, bool);
 
 /// The quad edges sorted by undirected key, so quads sharing an edge are adjacent, and the
 /// number of boundary edges. Fails on an edge used by more than two quads.
-fn sorted_edges(quads: &[[u32; 4]]) -> Result<(Vec<EdgeRecord>, usize)> {
+fn sorted_edges(quads: &[Face]) -> Result<(Vec<EdgeRecord>, usize)> {
     // No overflow: `quads` holds 16 bytes per quad within isize::MAX.
     let mut edges: Vec<EdgeRecord> = try_with_capacity(quads.len() * 4, "quad edges")?;
     for (qi, q) in quads.iter().enumerate() {
-        for i in 0..4 {
-            let (a, b) = (q[i], q[(i + 1) % 4]);
+        let n = corner_count(q);
+        for i in 0..n {
+            let (a, b) = (q[i], q[(i + 1) % n]);
             edges.push((a.min(b), a.max(b), qi as u32, a < b));
         }
     }
@@ -330,8 +369,11 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
                 }
             }
         }
-        // A component with no boundary edge (every quad has four neighbours) is closed.
-        if component.iter().all(|&q| offsets[q as usize + 1] - offsets[q as usize] == 4) {
+        // A component with no boundary edge (every face has a neighbour per edge) is closed.
+        if component
+            .iter()
+            .all(|&q| offsets[q as usize + 1] - offsets[q as usize] == corner_count(&quads[q as usize]))
+        {
             return Err(Error::ClosedMesh { quad: seed, whole_mesh: component.len() == nq });
         }
         // Reverse the minority, so "reoriented" lists as few quads as possible.
@@ -342,6 +384,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
         let largest = component
             .iter()
             .flat_map(|&q| quads[q as usize])
+            .filter(|&v| v != crate::face::NO_VERTEX)
             .fold(0.0f64, |m, v| m.max(points[v as usize].abs().max_element()));
         let scale = if largest > 0.0 { -crate::power_of_two::binary_exponent(largest) } else { 0 };
         let mut area = 0.0;

@@ -275,6 +275,42 @@ impl QualityStats {
     }
 }
 
+/// Quality statistics of the quads and of the triangles of a mesh apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ByFaceKind {
+    /// Number of quads.
+    pub quad_count: usize,
+    /// Statistics over the quads (`None` when there are none).
+    pub quads: Option<QualityStats>,
+    /// Number of triangles.
+    pub triangle_count: usize,
+    /// Statistics over the triangles (`None` when there are none).
+    pub triangles: Option<QualityStats>,
+}
+
+impl ByFaceKind {
+    /// A mesh of `quad_count` quads whose statistics are `stats`, and no triangle.
+    pub fn quads_only(quad_count: usize, stats: QualityStats) -> ByFaceKind {
+        ByFaceKind { quad_count, quads: Some(stats), triangle_count: 0, triangles: None }
+    }
+
+    /// The statistics of `values`, one per face of `faces`, split by kind.
+    pub fn new(faces: &[[u32; 4]], values: &[f64]) -> ByFaceKind {
+        let mut quads = Vec::with_capacity(faces.len());
+        let mut triangles = Vec::new();
+        for (f, &v) in faces.iter().zip(values) {
+            if crate::face::is_triangle(f) { triangles.push(v) } else { quads.push(v) }
+        }
+        let stats = |v: &[f64]| (!v.is_empty()).then(|| QualityStats::from_values(v));
+        ByFaceKind {
+            quad_count: quads.len(),
+            quads: stats(&quads),
+            triangle_count: triangles.len(),
+            triangles: stats(&triangles),
+        }
+    }
+}
+
 /// Whether a quad with corners `c` is valid, degenerate or inverted: its scaled Jacobian
 /// against zero (`None` for NaN).
 #[inline]
@@ -287,10 +323,12 @@ pub fn quad_values(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
     quads.iter().map(|q| scaled_jacobian(&corners(points, q))).collect()
 }
 
-/// The four corner positions of a quad.
+/// The four corner positions of a face; a triangle's last corner twice, which
+/// [`scaled_jacobian`] measures as the triangle (see [`crate::face::fourth_corner`]).
 #[inline]
 pub fn corners(points: &[DVec2], q: &[u32; 4]) -> [DVec2; 4] {
-    [points[q[0] as usize], points[q[1] as usize], points[q[2] as usize], points[q[3] as usize]]
+    let d = crate::face::fourth_corner(q);
+    [points[q[0] as usize], points[q[1] as usize], points[q[2] as usize], points[d as usize]]
 }
 
 #[cfg(test)]

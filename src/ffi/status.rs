@@ -87,6 +87,7 @@ fn status_of(e: &Error) -> QuadoptStatus {
         Error::VertexCountMismatch { .. } | Error::ConnectivityMismatch { .. } => QuadoptStatus::Mismatch,
         Error::InvalidOption { .. } => QuadoptStatus::InvalidOption,
         Error::NotPlanar { .. } => QuadoptStatus::NotPlanar,
+        Error::UnsupportedFace { .. } => QuadoptStatus::InvalidArgument,
         Error::OutOfMemory { .. } | Error::NoThreads { .. } => QuadoptStatus::OutOfMemory,
     }
 }

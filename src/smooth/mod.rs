@@ -39,7 +39,7 @@ use crate::error::{Error, Result};
 use crate::features::Features;
 use crate::mesh::QuadMesh;
 use crate::normalization::Normalization;
-use crate::quality::QualityStats;
+use crate::quality::{ByFaceKind, QualityStats};
 use crate::renumbering::Renumbering;
 use crate::topology::Topology;
 use boundary::BoundaryGeometry;
@@ -155,6 +155,26 @@ impl Optimizer {
         if mesh.quads().len() != self.quad_count || fingerprint(mesh.quads()) != self.fingerprint {
             return Err(Error::ConnectivityMismatch { expected: self.quad_count, got: mesh.quads().len() });
         }
+        // Per-kind statistics: with triangles, measured apart before and after the run.
+        let triangles = mesh.quads().iter().any(crate::face::is_triangle);
+        let input_by_kind = if triangles { Some(mesh.quality_by_face_kind()) } else { None };
+        let mut report = self.run_in_numbering(mesh, options, progress)?;
+        report.input_by_kind = input_by_kind.unwrap_or(ByFaceKind::quads_only(self.quad_count, report.input));
+        report.output_by_kind = if triangles {
+            mesh.quality_by_face_kind()
+        } else {
+            ByFaceKind::quads_only(self.quad_count, report.output)
+        };
+        Ok(report)
+    }
+
+    /// [`Optimizer::run`] after its checks: in the internal numbering if there is one.
+    fn run_in_numbering(
+        &self,
+        mesh: &mut QuadMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<Report> {
         if let Some(renumbering) = &self.renumbering {
             // On an error the caller's mesh is left as it was: only the copy has moved.
             let mut internal = renumbering.internal(mesh)?;
@@ -373,6 +393,9 @@ impl Optimizer {
             // The statistics already say whether there is anything to diagnose.
             max_min,
             effort: options.effort,
+            // Set by `Optimizer::run`, which sees the caller's mesh.
+            input_by_kind: ByFaceKind::quads_only(0, input),
+            output_by_kind: ByFaceKind::quads_only(0, pass.stats),
             tangled: if pass.stats.inverted == 0 {
                 Vec::new()
             } else {

@@ -4,7 +4,7 @@ use super::effort::Effort;
 use super::fidelity::BoundaryFidelity;
 use super::options::BoundaryMode;
 use super::untangle::TangledQuad;
-use crate::quality::QualityStats;
+use crate::quality::{ByFaceKind, QualityStats};
 
 /// Progress of a run, passed to the progress callback after every sweep. Made only by the
 /// library (`#[non_exhaustive]`: later versions may add fields).
@@ -89,6 +89,10 @@ pub struct Report {
     pub max_min: Option<MaxMinGain>,
     /// The preset that ran ([`crate::Options::effort`]).
     pub effort: Effort,
+    /// [`Report::input`] per face kind: the quads and the triangles apart.
+    pub input_by_kind: ByFaceKind,
+    /// [`Report::output`] per face kind.
+    pub output_by_kind: ByFaceKind,
 }
 
 /// What the max-min stage changed. Made only by the library (`#[non_exhaustive]`).

@@ -37,7 +37,8 @@ impl Features {
     /// Classifies the vertices of `mesh`.
     ///
     /// A boundary vertex is a corner when its number of incident quads is not 2 or its
-    /// boundary angle differs from 180 degrees by more than `feature_angle_deg`. Boundary
+    /// boundary angle differs from 180 degrees by more than `feature_angle_deg`; at a boundary
+    /// vertex with a triangle among its faces, the angle alone decides. Boundary
     /// vertices are movable only when `boundary_moves` (a boundary mode other than fixed).
     pub fn new(mesh: &QuadMesh, topo: &Topology, feature_angle_deg: f64, boundary_moves: bool) -> Features {
         let n = topo.vertex_count();
@@ -51,8 +52,14 @@ impl Features {
                 VertexKind::Boundary => {
                     boundary[v] = true;
                     let turn = (boundary_angle_deg(points, topo, v) - 180.0).abs();
-                    corner[v] =
-                        topo.quad_count(v) != 2 || turn > feature_angle_deg + FEATURE_ANGLE_TOLERANCE_DEG;
+                    // The paper's valence rule (two quads at a regular boundary vertex) says
+                    // nothing where triangles meet the boundary: there the angle alone decides.
+                    let with_triangle = topo
+                        .vertex_quads(v)
+                        .iter()
+                        .any(|&f| crate::face::is_triangle(&mesh.quads()[f as usize]));
+                    let irregular = !with_triangle && topo.quad_count(v) != 2;
+                    corner[v] = irregular || turn > feature_angle_deg + FEATURE_ANGLE_TOLERANCE_DEG;
                     movable[v] = !corner[v] && !mesh.fixed()[v] && boundary_moves;
                 }
                 VertexKind::NonManifold => {

@@ -185,7 +185,11 @@ impl QuadMesh {
         let mut fixed = try_with_capacity(n, "fixed flags")?;
         fixed.extend(vertex_of.iter().map(|&v| self.fixed[v as usize]));
         let mut quads = try_with_capacity(self.quads.len(), "quads")?;
-        quads.extend(quad_of.iter().map(|&k| self.quads[k as usize].map(|v| internal[v as usize])));
+        quads.extend(
+            quad_of
+                .iter()
+                .map(|&k| self.quads[k as usize].map(|v| internal.get(v as usize).copied().unwrap_or(v))),
+        );
         let mut clockwise = try_with_capacity(self.clockwise.len(), "quad orientations")?;
         if !self.clockwise.is_empty() {
             clockwise.extend(quad_of.iter().map(|&k| self.clockwise[k as usize]));

@@ -27,6 +27,7 @@
 
 use crate::alloc::try_copy;
 use crate::error::Result;
+use crate::face;
 use crate::power_of_two::{binary_exponent, pow2, scale_by_power_of_two};
 use crate::quality::{corners, sign_class};
 use glam::DVec2;
@@ -235,10 +236,12 @@ impl Normalization {
             let changed: Vec<u32> = quads
                 .par_iter()
                 .filter(|q| {
-                    q.iter().all(|&v| (v as usize) < points_now.len())
-                        && sign_class(&corners(points_now, q)) != sign_class(&q.map(at))
+                    let fourth = crate::face::fourth_corner(q);
+                    face::vertices(q).iter().all(|&v| (v as usize) < points_now.len())
+                        && sign_class(&corners(points_now, q))
+                            != sign_class(&[q[0], q[1], q[2], fourth].map(at))
                 })
-                .flat_map_iter(|q| q.iter().copied())
+                .flat_map_iter(|q| face::vertices(q).iter().copied())
                 .collect();
             let before = unrounded.len();
             for v in changed {
@@ -326,8 +329,9 @@ impl Normalized {
 fn shortest_edge(quads: &[[u32; 4]], at: impl Fn(u32) -> Option<DVec2>) -> f64 {
     let mut shortest = f64::INFINITY;
     for q in quads {
-        for i in 0..4 {
-            if let (Some(a), Some(b)) = (at(q[i]), at(q[(i + 1) % 4])) {
+        let n = face::corner_count(q);
+        for i in 0..n {
+            if let (Some(a), Some(b)) = (at(q[i]), at(q[(i + 1) % n])) {
                 // hypot: the squares of edges near 1e-300 of the box would underflow.
                 let d = b - a;
                 let l = d.x.hypot(d.y);

@@ -38,10 +38,15 @@ const LOCAL_FRACTION: f64 = 0.9;
 /// no faster, 40 MB more).
 fn already_local(quads: &[[u32; 4]]) -> bool {
     let close = |a: u32, b: u32| a.abs_diff(b) < LOCAL_SPAN;
-    let edges = quads.iter().map(|q| (0..4).filter(|&i| close(q[i], q[(i + 1) % 4])).count()).sum::<usize>();
+    let (mut edges, mut all_edges) = (0, 0);
+    for q in quads {
+        let n = crate::face::corner_count(q);
+        edges += (0..n).filter(|&i| close(q[i], q[(i + 1) % n])).count();
+        all_edges += n;
+    }
     let neighbours = quads.windows(2).filter(|w| close(w[0][0], w[1][0])).count();
     let enough = |count: usize, of: usize| count as f64 >= LOCAL_FRACTION * of as f64;
-    enough(edges, 4 * quads.len()) && enough(neighbours, quads.len().saturating_sub(1))
+    enough(edges, all_edges) && enough(neighbours, quads.len().saturating_sub(1))
 }
 
 /// Bits per axis of the Hilbert curve's grid.
@@ -88,7 +93,8 @@ impl Renumbering {
         // depend on the caller's.
         let mut quad_keys = crate::alloc::try_with_capacity::<([u32; 4], u32)>(quads.len(), "quad order")?;
         quad_keys.extend(quads.iter().enumerate().map(|(k, q)| {
-            let mut key = q.map(|v| internal[v as usize].0);
+            // A triangle's NO_VERTEX stays itself (it sorts last).
+            let mut key = q.map(|v| internal.get(v as usize).map_or(v, |i| i.0));
             key.sort_unstable();
             (key, k as u32)
         }));

@@ -6,6 +6,7 @@
 
 use crate::alloc::{out_of_memory, try_copy, try_filled, try_with_capacity};
 use crate::error::{Error, Result};
+use crate::face::{self, NO_VERTEX};
 use crate::mesh::QuadMesh;
 
 /// How a vertex sits in the mesh.
@@ -40,9 +41,10 @@ pub struct Topology {
     colours: Vec<u32>,
 }
 
-/// A wedge of a quad at a vertex v: the quad's vertices after v, counter-clockwise (`from`,
-/// the edge-neighbour after v; `diag`, the opposite vertex; `prev`, the edge-neighbour before
-/// v). Around v the wedges chain by `prev` of one = `from` of the next.
+/// A wedge of a face at a vertex v: the face's vertices after v, counter-clockwise (`from`,
+/// the edge-neighbour after v; `diag`, the opposite vertex of a quad, [`NO_VERTEX`] for a
+/// triangle; `prev`, the edge-neighbour before v). Around v the wedges chain by `prev` of one
+/// = `from` of the next, whatever the kinds of the faces.
 type Wedge = (u32, u32, u32);
 
 /// Marks "no entry" in the per-vertex scratch of [`chain_wedges`] and [`trace_loops`].
@@ -71,7 +73,7 @@ impl Topology {
         }
         let mut quad_offsets = try_filled(n + 1, 0u32, "topology: quad offsets")?;
         for q in quads {
-            for &v in q {
+            for &v in face::vertices(q) {
                 quad_offsets[v as usize + 1] += 1;
             }
         }
@@ -82,13 +84,15 @@ impl Topology {
         }
         let mut fill = try_copy(&quad_offsets, "topology: scratch")?;
         let mut vertex_quads = try_filled(quads.len() * 4, 0u32, "topology: vertex quads")?;
+        // Sized for quads; a triangle leaves its fourth entry unused at the end.
         for (qi, q) in quads.iter().enumerate() {
-            for &v in q {
+            for &v in face::vertices(q) {
                 vertex_quads[fill[v as usize] as usize] = qi as u32;
                 fill[v as usize] += 1;
             }
         }
         drop(fill);
+        vertex_quads.truncate(quad_offsets[n] as usize);
 
         let mut kind = try_filled(n, VertexKind::Unused, "topology: vertex kinds")?;
         let mut ring_offsets = try_with_capacity(n + 1, "topology: ring offsets")?;
@@ -167,17 +171,19 @@ impl Topology {
         &self.ring[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize]
     }
 
-    /// Every other vertex of the quads of `v` (its edge-neighbours twice, its quads' diagonal
-    /// vertices once), in no particular order; none for a vertex without a ring. `quads` must
-    /// be the mesh's. Computed from the quads rather than stored: 36 bytes a vertex less.
+    /// Every other vertex of the faces of `v` (its edge-neighbours twice, its quads' diagonal
+    /// vertices once), in no particular order;
+    /// none for a vertex without a ring. `quads` must be the mesh's. Computed from the faces
+    /// rather than stored: 36 bytes a vertex less.
     pub fn star_vertices<'a>(&'a self, quads: &'a [[u32; 4]], v: usize) -> impl Iterator<Item = u32> + 'a {
         let with_ring = matches!(self.kind[v], VertexKind::Interior | VertexKind::Boundary);
         let star = if with_ring { self.vertex_quads(v) } else { &[] };
-        star.iter().flat_map(move |&qi| {
-            let q = &quads[qi as usize];
-            let k = q.iter().position(|&u| u as usize == v).unwrap_or(0);
-            [q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]]
-        })
+        star.iter()
+            .flat_map(move |&qi| {
+                let (from, diag, prev) = wedge(&quads[qi as usize], v);
+                [from, diag, prev]
+            })
+            .filter(|&u| u != NO_VERTEX)
     }
 
     /// Edge-neighbours and quad diagonals of `v`, counter-clockwise, alternating (for a
@@ -192,9 +198,9 @@ impl Topology {
             .vertex_quads(v)
             .iter()
             .filter_map(|&qi| {
-                let q = &quads[qi as usize];
-                let k = q.iter().position(|&u| u as usize == v)?;
-                Some((q[(k + 1) % 4], q[(k + 2) % 4]))
+                let (from, diag, _) = wedge(&quads[qi as usize], v);
+                // A triangle has no diagonal vertex: its ring entries are adjacent.
+                (diag != NO_VERTEX).then_some((from, diag))
             })
             .collect();
         diagonals.sort_unstable();
@@ -230,10 +236,9 @@ impl Topology {
     }
 }
 
-/// The wedge of quad `q` at its vertex `v`.
+/// The wedge of face `q` at its vertex `v`.
 fn wedge(q: &[u32; 4], v: usize) -> Wedge {
-    let i = q.iter().position(|&x| x as usize == v).unwrap_or(0);
-    (q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4])
+    face::after(q, face::position(q, v as u32).unwrap_or(0))
 }
 
 /// Greedy colouring of the vertices that have a ring, over the "shares a quad" graph (edge
@@ -261,7 +266,7 @@ fn colour_classes(
         taken.clear();
         taken.resize(bound + 1, false);
         for &qi in star {
-            for &u in &quads[qi as usize] {
+            for &u in face::vertices(&quads[qi as usize]) {
                 if u as usize != v {
                     if let Some(t) = taken.get_mut(colour[u as usize] as usize) {
                         *t = true;

@@ -10,7 +10,7 @@
 //!   refined once more (interior valences 3, 4, 6 and the polygon's vertex count);
 //! - every vertex jittered by a fraction of its shortest edge, some vertices folded across
 //!   a neighbour (inverted quads), random fixed flags, quads given clockwise or with a
-//!   rotated first vertex.
+//!   rotated first vertex, some quads split into two triangles (quad-dominant meshes).
 //!
 //! Properties: no panic for any mesh and any options (valid or not); with default options
 //! and every method and boundary mode no more inverted quads and no lower minimum scaled
@@ -73,6 +73,9 @@ struct Case {
     clockwise: bool,
     /// First-corner rotation per quad (modulo [`TABLE`]).
     rotate: Vec<u8>,
+    /// Quads split along their first diagonal into two triangles (modulo [`TABLE`]; empty:
+    /// none): quad-dominant meshes.
+    split: Vec<bool>,
 }
 
 fn grid_base() -> impl Strategy<Value = Base> {
@@ -102,17 +105,21 @@ fn case() -> impl Strategy<Value = Case> {
         prop::collection::vec(prop::bool::weighted(0.1), TABLE),
         prop::bool::weighted(0.2),
         prop::collection::vec(0u8..4, TABLE),
+        prop_oneof![2 => Just(Vec::new()), 1 => prop::collection::vec(prop::bool::weighted(0.3), TABLE)],
     )
-        .prop_map(|(base, amplitude, jitter, jitter_boundary, folds, fixed, clockwise, rotate)| Case {
-            base,
-            amplitude,
-            jitter,
-            jitter_boundary,
-            folds,
-            fixed,
-            clockwise,
-            rotate,
-        })
+        .prop_map(
+            |(base, amplitude, jitter, jitter_boundary, folds, fixed, clockwise, rotate, split)| Case {
+                base,
+                amplitude,
+                jitter,
+                jitter_boundary,
+                folds,
+                fixed,
+                clockwise,
+                rotate,
+                split,
+            },
+        )
 }
 
 /// Points and quads of a base (quads counter-clockwise).
@@ -212,6 +219,19 @@ fn build_arrays(case: &Case) -> (Vec<DVec2>, Vec<[u32; 4]>, Vec<bool>) {
         }
         quad.rotate_left(case.rotate[i % TABLE] as usize);
     }
+    if !case.split.is_empty() {
+        q = q
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &[a, b, c, d])| {
+                if case.split[i % TABLE] {
+                    vec![quadopt::face::triangle(a, b, c), quadopt::face::triangle(a, c, d)]
+                } else {
+                    vec![[a, b, c, d]]
+                }
+            })
+            .collect();
+    }
     let fixed = (0..n).map(|v| case.fixed[v % TABLE]).collect();
     (p, q, fixed)
 }
@@ -238,7 +258,7 @@ fn boundary_flags(n: usize, quads: &[[u32; 4]]) -> Vec<bool> {
 /// The case's mesh, or the typed error validation gives.
 fn build(case: &Case) -> Result<QuadMesh, Error> {
     let (p, q, fixed) = build_arrays(case);
-    QuadMesh::new(p, q, Some(fixed))
+    QuadMesh::with_faces(p, q, Some(fixed))
 }
 
 /// The case's mesh; cases that do not validate (every cell removed) are rejected.
@@ -264,7 +284,7 @@ fn generated_meshes_really_are_varied_and_hard() {
     let mut runner = proptest::test_runner::TestRunner::deterministic();
     let (mut inverted, mut holes, mut bowties, mut fixed, mut clockwise, mut polygons, mut n) =
         (0, 0, 0, 0, 0, 0, 0);
-    let mut largest = 0;
+    let (mut largest, mut mixed) = (0, 0);
     for _ in 0..400 {
         let case = case().new_tree(&mut runner).unwrap().current();
         let Ok(mesh) = build(&case) else { continue };
@@ -276,6 +296,7 @@ fn generated_meshes_really_are_varied_and_hard() {
         fixed += usize::from(mesh.fixed().iter().any(|&f| f));
         clockwise += usize::from(mesh.has_clockwise_component());
         polygons += usize::from(matches!(case.base, Base::Polygon { .. }));
+        mixed += usize::from(mesh.triangle_count() > 0);
         largest = largest.max(mesh.points().len());
     }
     assert!(n >= 390, "{n} of 400 cases validate");
@@ -288,6 +309,7 @@ fn generated_meshes_really_are_varied_and_hard() {
         ("fixed", fixed),
         ("clockwise", clockwise),
         ("polygons", polygons),
+        ("triangles", mixed),
     ] {
         assert!(count * 20 >= n, "only {count} of {n} meshes have {what}");
     }
@@ -460,7 +482,7 @@ proptest! {
         if wrong_count {
             let (mut p, q, _) = build_arrays(&case);
             p.push(DVec2::ZERO);
-            let mut other = QuadMesh::new(p, q, None).unwrap();
+            let mut other = QuadMesh::with_faces(p, q, None).unwrap();
             let r = optimizer.run(&mut other, &Options::default(), None);
             prop_assert!(matches!(r, Err(Error::VertexCountMismatch { .. })), "{:?}", r);
         }
@@ -679,7 +701,7 @@ proptest! {
     fn readers_never_panic_on_mutated_files((format, bytes) in mutated_file()) {
         if let Ok(d) = io::read_mesh_bytes(&bytes, format) {
             prop_assert!(d.check().is_ok());
-            prop_assert!(d.quads.iter().flatten().all(|&v| (v as usize) < d.points.len()));
+            prop_assert!(d.quads.iter().flat_map(|f| quadopt::face::vertices(f)).all(|&v| (v as usize) < d.points.len()));
         }
     }
 }

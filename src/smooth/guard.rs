@@ -6,6 +6,7 @@
 //! "Guarded moves and the best iterate"). Vertices in a tangled star are not guarded, so
 //! untangling is never blocked.
 
+use crate::face::{fourth_corner, is_triangle};
 use crate::quality::{QualityStats, corners, scaled_jacobian, scaled_jacobian_below};
 use crate::topology::Topology;
 use glam::DVec2;
@@ -33,6 +34,10 @@ fn star_quads<'a>(
             if u as usize == v {
                 c[k] = at;
             }
+        }
+        // A triangle's fourth corner repeats its third (see `corners`).
+        if is_triangle(q) {
+            c[3] = c[2];
         }
         c
     })
@@ -107,13 +112,38 @@ pub fn quad_slack(c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
     // No bound for a quad at or below the floor, a NaN (value or corner), or an edge shorter
     // than 1e-12 of the longest, which could come near the cut-off (2.2e-15 of the quad's
     // bounding-box diagonal).
-    if shortest >= 1e-24 * longest && slack > 0.0 {
+    slack_f32(slack, shortest >= 1e-24 * longest)
+}
+
+/// [`quad_slack`] for a triangle with corners `c[0..3]`: the same bound on each corner's
+/// angle, whose sine Verdict scales by 2/sqrt(3), so the value moves up to 2/sqrt(3) times
+/// as fast.
+#[inline]
+pub fn triangle_slack(c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
+    let squared = [c[1] - c[0], c[2] - c[1], c[0] - c[2]].map(DVec2::length_squared);
+    let shortest = squared[0].min(squared[1]).min(squared[2]);
+    let longest = squared[0].max(squared[1]).max(squared[2]);
+    let per_turn = std::f64::consts::TAU * 2.0 / 3.0_f64.sqrt();
+    let slack = (value - floor - SLACK_MARGIN) * shortest.sqrt() / per_turn;
+    slack_f32(slack, shortest >= 1e-24 * longest)
+}
+
+/// A slack rounded down to an f32, 0 unless it is positive and `bounded`.
+#[inline]
+fn slack_f32(slack: f64, bounded: bool) -> f32 {
+    if bounded && slack > 0.0 {
         // Positive: one step down in the bits is the next smaller f32 (f32::MAX from infinity).
         let rounded = slack as f32;
         if f64::from(rounded) <= slack { rounded } else { f32::from_bits(rounded.to_bits() - 1) }
     } else {
         0.0
     }
+}
+
+/// The slack of face `q` with corners `c` ([`quad_slack`] or [`triangle_slack`]).
+#[inline]
+pub fn face_slack(q: &[u32; 4], c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
+    if is_triangle(q) { triangle_slack(c, value, floor) } else { quad_slack(c, value, floor) }
 }
 
 /// The length of a move rounded up to an f32, to compare with [`quad_slack`]. (A length
@@ -142,7 +172,7 @@ pub fn stats_and_slack(
     let measure = |q: &[u32; 4]| {
         let c = corners(points, q);
         let value = scaled_jacobian(&c);
-        (value, quad_slack(&c, value, floor))
+        (value, face_slack(q, &c, value, floor))
     };
     if quads.len() >= PARALLEL_MIN {
         quads.par_iter().map(measure).unzip_into_vecs(values, slack);
@@ -178,7 +208,7 @@ pub fn certainly_at_least(
     let star = topo.vertex_quads(v);
     let most = star.iter().fold(move_length(points[v], target), |most, &qi| {
         let q = &quads[qi as usize];
-        let [a, b, c, d] = q.map(|u| moved[u as usize]);
+        let [a, b, c, d] = [q[0], q[1], q[2], fourth_corner(q)].map(|u| moved[u as usize]);
         larger(most, larger(larger(a, b), larger(c, d)))
     });
     star.iter().all(|&qi| most < slack[qi as usize])

@@ -428,7 +428,7 @@ fn restore_quads_below(mesh: &mut QuadMesh, original: &[DVec2], topo: &Topology,
         let mut changed = false;
         for (q, &value) in quads.iter().zip(&values) {
             if value < bar {
-                for &v in q {
+                for &v in crate::face::vertices(q) {
                     let v = v as usize;
                     if topo.kind(v) == crate::topology::VertexKind::Interior && points[v] != original[v] {
                         points[v] = original[v];
@@ -452,16 +452,17 @@ fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::
     Ok(classes)
 }
 
-/// Mean length of the quad edges (each interior edge counted twice, which does not matter
+/// Mean length of the face edges (each interior edge counted twice, which does not matter
 /// for a scale).
 fn mean_edge_length(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
-    let total: f64 = quads
-        .iter()
-        .map(|q| {
-            (0..4).map(|i| (points[q[(i + 1) % 4] as usize] - points[q[i] as usize]).length()).sum::<f64>()
-        })
-        .sum();
-    total / (4 * quads.len()).max(1) as f64
+    let (mut total, mut count) = (0.0, 0usize);
+    for q in quads {
+        let n = crate::face::corner_count(q);
+        total +=
+            (0..n).map(|i| (points[q[(i + 1) % n] as usize] - points[q[i] as usize]).length()).sum::<f64>();
+        count += n;
+    }
+    total / count.max(1) as f64
 }
 
 #[cfg(test)]

@@ -609,10 +609,9 @@ impl Since<'_> {
     fn still_stuck(&self, quads: &[[u32; 4]], topo: &Topology, v: usize) -> bool {
         let at = self.stuck[v];
         at != NOT_STUCK
-            && topo
-                .vertex_quads(v)
-                .iter()
-                .all(|&q| quads[q as usize].iter().all(|&u| self.last_move[u as usize] < at))
+            && topo.vertex_quads(v).iter().all(|&q| {
+                crate::face::vertices(&quads[q as usize]).iter().all(|&u| self.last_move[u as usize] < at)
+            })
     }
 }
 

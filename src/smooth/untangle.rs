@@ -11,6 +11,7 @@
 //! colour class by colour class (vertices of one class share no quad), so every accepted move
 //! improves its star exactly, and the caller is asked regularly whether to go on.
 
+use crate::face;
 use crate::features::Features;
 use crate::quality::{corners, scaled_jacobian};
 use crate::topology::{Topology, VertexKind};
@@ -108,12 +109,16 @@ fn star_corners(
     out.clear();
     for &qi in topo.vertex_quads(v) {
         let q = &quads[qi as usize];
-        let i = q.iter().position(|&u| u as usize == v).unwrap_or(0);
-        let a = frame.local(points[q[(i + 1) % 4] as usize]);
-        let d = frame.local(points[q[(i + 2) % 4] as usize]);
-        let b = frame.local(points[q[(i + 3) % 4] as usize]);
+        let (next, diag, prev) = face::after(q, face::position(q, v as u32).unwrap_or(0));
+        let a = frame.local(points[next as usize]);
+        let b = frame.local(points[prev as usize]);
         // Corner at v: cross(a - v, b - v) = cross(a, b) + v.x (a.y - b.y) + v.y (b.x - a.x).
         out.push(Linear { g: DVec2::new(a.y - b.y, b.x - a.x), c: a.perp_dot(b) });
+        // A triangle's three corners have the same cross product (twice its area): one row.
+        if diag == face::NO_VERTEX {
+            continue;
+        }
+        let d = frame.local(points[diag as usize]);
         // Corner at a (prev v, next d): cross(d - a, v - a).
         out.push(Linear::cross_from(d - a, a));
         // Corner at b (prev d, next v): cross(v - b, d - b) = -cross(d - b, v - b).
@@ -540,17 +545,18 @@ pub fn diagnose(
         if scaled_jacobian(&c) > 0.0 {
             continue;
         }
-        let fixed = |k: usize| !features.is_movable(q[k % 4] as usize);
-        let reason = if (0..4).all(fixed) {
+        let n = face::corner_count(q);
+        let fixed = |k: usize| !features.is_movable(q[k % n] as usize);
+        let reason = if (0..n).all(fixed) {
             TangleReason::AllVerticesFixed
-        } else if (0..4).any(|k| {
-            let (prev, p, next) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
-            fixed(k + 3) && fixed(k) && fixed(k + 1) && (next - p).perp_dot(prev - p) <= 0.0
+        } else if (0..n).any(|k| {
+            let (prev, p, next) = (c[(k + n - 1) % n], c[k], c[(k + 1) % n]);
+            fixed(k + n - 1) && fixed(k) && fixed(k + 1) && (next - p).perp_dot(prev - p) <= 0.0
         }) {
             TangleReason::ForcedByFixedVertices
-        } else if (0..4).any(|k| {
+        } else if (0..n).any(|k| {
             let v = q[k] as usize;
-            let (prev, p, next) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
+            let (prev, p, next) = (c[(k + n - 1) % n], c[k], c[(k + 1) % n]);
             fixed(k)
                 && topo.kind(v) == VertexKind::Boundary
                 && topo.quad_count(v) == 1

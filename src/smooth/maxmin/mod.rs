@@ -213,7 +213,8 @@ pub fn max_min_stage(
     };
     // Quads with no vertex the stage may move keep their value: the stage works on the worst
     // of the others (its level), else a fixed worst quad would stall it from the start.
-    let stuck: Vec<bool> = quads.iter().map(|q| q.iter().all(|&u| !ctx.eligible(u as usize))).collect();
+    let stuck: Vec<bool> =
+        quads.iter().map(|q| crate::face::vertices(q).iter().all(|&u| !ctx.eligible(u as usize))).collect();
     let level_of = |values: &[f64]| {
         values.iter().zip(&stuck).filter(|(_, s)| !**s).map(|(v, _)| *v).fold(f64::INFINITY, f64::min)
     };

@@ -25,7 +25,7 @@ pub(super) fn mark_region(
     let mut count = 0;
     for (q, &value) in quads.iter().zip(values) {
         if value < threshold {
-            for &u in q {
+            for &u in crate::face::vertices(q) {
                 count += usize::from(!in_region[u as usize]);
                 in_region[u as usize] = true;
             }
@@ -60,7 +60,7 @@ pub(super) fn capped_threshold(
 pub(super) fn region_average(quads: &[[u32; 4]], values: &[f64], in_region: &[bool]) -> f64 {
     let (mut sum, mut count) = (0.0, 0usize);
     for (q, &value) in quads.iter().zip(values) {
-        if q.iter().any(|&u| in_region[u as usize]) {
+        if crate::face::vertices(q).iter().any(|&u| in_region[u as usize]) {
             sum += value;
             count += 1;
         }

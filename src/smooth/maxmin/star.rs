@@ -3,6 +3,7 @@
 //! and batched evaluations every search spends its time in. Separate from the searches, which
 //! only ask it for values, because its arithmetic must stay bit-identical across its paths.
 
+use crate::face::{corner_count, is_triangle};
 use crate::quality::{corners, scaled_jacobian};
 use crate::topology::Topology;
 use glam::DVec2;
@@ -24,10 +25,10 @@ const SHORTEST_EDGE_KEPT: f64 = 0.5;
 pub(super) fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
     let mut floors = Vec::with_capacity(quads.len());
     floors.par_extend(quads.par_iter().map(|q| {
-        let c = corners(points, q);
-        let squared = |i: usize| (c[(i + 1) % 4] - c[i]).length_squared();
-        let longest = (0..4).map(squared).fold(0.0, f64::max);
-        let shortest = (0..4).map(squared).fold(f64::INFINITY, f64::min);
+        let (c, n) = (corners(points, q), corner_count(q));
+        let squared = |i: usize| (c[(i + 1) % n] - c[i]).length_squared();
+        let longest = (0..n).map(squared).fold(0.0, f64::max);
+        let shortest = (0..n).map(squared).fold(f64::INFINITY, f64::min);
         (SHORTEST_EDGE_FRACTION * SHORTEST_EDGE_FRACTION * longest)
             .min(SHORTEST_EDGE_KEPT * SHORTEST_EDGE_KEPT * shortest)
     }));
@@ -37,6 +38,8 @@ pub(super) fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
 /// The quads around one vertex, with the vertex's corner index in each.
 pub(super) struct Star {
     pub(super) quads: Vec<([DVec2; 4], usize)>,
+    /// Whether each face is a triangle (its fourth corner repeats its third).
+    triangle: Vec<bool>,
     /// Whether each quad is valid (scaled Jacobian > 0) at the current position.
     valid: Vec<bool>,
     /// Per quad, what does not depend on the moving corner.
@@ -70,7 +73,22 @@ const FAST_FLOOR: f64 = 1e-6;
 const LANES: usize = 4;
 
 impl FixedPart {
-    fn new(c: &[DVec2; 4], k: usize) -> FixedPart {
+    fn new(c: &[DVec2; 4], k: usize, triangle: bool) -> FixedPart {
+        if triangle {
+            // Only the edges to the moving corner's neighbours (for the edge floor): a
+            // triangle is always evaluated in full.
+            let (prev, next) = (c[(k + 2) % 3], c[(k + 1) % 3]);
+            let (next_len, prev_len, opposite_value) = (0.0, 0.0, 0.0);
+            return FixedPart {
+                prev,
+                next,
+                opposite: next,
+                next_len,
+                prev_len,
+                opposite_value,
+                usable: false,
+            };
+        }
         let (prev, next, opposite) = (c[(k + 3) % 4], c[(k + 1) % 4], c[(k + 2) % 4]);
         let (next_len, prev_len) = ((opposite - next).length(), (prev - opposite).length());
         let (a, b) = (prev - opposite, next - opposite);
@@ -145,6 +163,8 @@ impl Star {
         edge_floors: &[f64],
         v: usize,
     ) -> Star {
+        let triangle: Vec<bool> =
+            topo.vertex_quads(v).iter().map(|&qi| is_triangle(&quads[qi as usize])).collect();
         let quads: Vec<([DVec2; 4], usize)> = topo
             .vertex_quads(v)
             .iter()
@@ -154,7 +174,8 @@ impl Star {
             })
             .collect();
         let valid = quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect();
-        let fixed_part: Vec<FixedPart> = quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect();
+        let fixed_part: Vec<FixedPart> =
+            quads.iter().zip(&triangle).map(|((c, k), &t)| FixedPart::new(c, *k, t)).collect();
         // Never above the current lengths, so that staying put is always allowed.
         let shortest_squared = topo
             .vertex_quads(v)
@@ -166,7 +187,19 @@ impl Star {
                 edge_floors.get(qi as usize).map_or(0.0, |&f| f.min(now.next_squared).min(now.prev_squared))
             })
             .collect();
-        Star { quads, valid, fixed_part, shortest_squared }
+        Star { quads, triangle, valid, fixed_part, shortest_squared }
+    }
+
+    /// The corners of face `i` with the moving corner at `at`.
+    #[inline]
+    fn moved(&self, i: usize, at: DVec2) -> [DVec2; 4] {
+        let (mut c, k) = self.quads[i];
+        c[k] = at;
+        // A triangle's fourth corner repeats its third.
+        if self.triangle[i] {
+            c[3] = c[2];
+        }
+        c
     }
 
     pub(super) fn value(&self, at: DVec2) -> Value {
@@ -178,17 +211,13 @@ impl Star {
     /// of -inf. For a candidate that cannot be taken, whatever its true value.
     fn value_above(&self, at: DVec2, bar: f64) -> Value {
         let (mut min, mut sum) = (f64::INFINITY, 0.0);
-        let quads = self.quads.iter().zip(&self.valid).zip(&self.fixed_part).zip(&self.shortest_squared);
-        for ((((c, k), &valid), part), &shortest) in quads {
+        let quads = self.valid.iter().zip(&self.fixed_part).zip(&self.shortest_squared).enumerate();
+        for (i, ((&valid, part), &shortest)) in quads {
             let edges = MovingEdges::new(part.next, part.prev, at);
             if edges.next_squared < shortest || edges.prev_squared < shortest {
                 return REJECTED;
             }
-            let q = part.value_from(&edges).unwrap_or_else(|| {
-                let mut c = *c;
-                c[*k] = at;
-                scaled_jacobian(&c)
-            });
+            let q = part.value_from(&edges).unwrap_or_else(|| scaled_jacobian(&self.moved(i, at)));
             if valid && q <= 0.0 {
                 return REJECTED;
             }
@@ -222,8 +251,8 @@ impl Star {
             let mut sum = [0.0; LANES];
             let mut result: [Option<Value>; LANES] = [None; LANES];
             let mut open = group.len();
-            let quads = self.quads.iter().zip(&self.valid).zip(&self.fixed_part).zip(&self.shortest_squared);
-            for ((((c, k), &valid), part), &shortest) in quads {
+            let quads = self.valid.iter().zip(&self.fixed_part).zip(&self.shortest_squared).enumerate();
+            for (i, ((&valid, part), &shortest)) in quads {
                 let lanes = part.lanes(&x, &y);
                 for l in 0..group.len() {
                     if result[l].is_some() {
@@ -238,9 +267,7 @@ impl Star {
                     let q = if part.usable && fast >= FAST_FLOOR {
                         fast
                     } else {
-                        let mut c = *c;
-                        c[*k] = group[l];
-                        scaled_jacobian(&c)
+                        scaled_jacobian(&self.moved(i, group[l]))
                     };
                     if valid && q <= 0.0 {
                         (result[l], open) = (Some(REJECTED), open - 1);
@@ -268,14 +295,15 @@ impl Star {
         }
     }
 
-    /// Every corner's scaled Jacobian at `at` and its gradient with respect to `at`.
+    /// Every corner's scaled Jacobian at `at` and its gradient with respect to `at` (a
+    /// triangle's three corners scaled by 2/sqrt(3), as Verdict's triangle measure).
     pub(super) fn corner_functions(&self, at: DVec2, out: &mut Vec<(f64, DVec2)>) {
         out.clear();
-        for (c, k) in &self.quads {
-            let mut c = *c;
-            c[*k] = at;
-            for i in 0..4 {
-                let (prev, p, next) = (c[(i + 3) % 4], c[i], c[(i + 1) % 4]);
+        for (f, &(_, k)) in self.quads.iter().enumerate() {
+            let c = self.moved(f, at);
+            let (n, scale) = if self.triangle[f] { (3, 2.0 / 3.0_f64.sqrt()) } else { (4, 1.0) };
+            for i in 0..n {
+                let (prev, p, next) = (c[(i + n - 1) % n], c[i], c[(i + 1) % n]);
                 let (u, w) = (next - p, prev - p);
                 let (lu, lw) = (u.length_squared(), w.length_squared());
                 if lu == 0.0 || lw == 0.0 {
@@ -288,16 +316,16 @@ impl Star {
                 // J = sin(angle from u to w): d/dw = cos perp(w)/|w|^2, d/du = -cos perp(u)/|u|^2.
                 let d_prev = cos * w.perp() / lw;
                 let d_next = -cos * u.perp() / lu;
-                let grad = if i == *k {
+                let grad = if i == k {
                     -(d_prev + d_next)
-                } else if (i + 3) % 4 == *k {
+                } else if (i + n - 1) % n == k {
                     d_prev
-                } else if (i + 1) % 4 == *k {
+                } else if (i + 1) % n == k {
                     d_next
                 } else {
                     DVec2::ZERO
                 };
-                out.push((value, grad));
+                out.push((scale * value, scale * grad));
             }
         }
     }
@@ -342,7 +370,7 @@ mod tests {
             let c = base.map(|p| p + 0.6 * DVec2::new(next(), next()));
             let k = ((next() + 0.5) * 4.0) as usize % 4;
             let x = base[k] + 0.8 * DVec2::new(next(), next());
-            let part = FixedPart::new(&c, k);
+            let part = FixedPart::new(&c, k, false);
             let mut moved = c;
             moved[k] = x;
             let exact = scaled_jacobian(&moved);
@@ -380,8 +408,9 @@ mod tests {
                 })
                 .collect();
             let star = Star {
+                triangle: vec![false; quads.len()],
                 valid: quads.iter().map(|(c, _)| scaled_jacobian(c) > 0.0).collect(),
-                fixed_part: quads.iter().map(|(c, k)| FixedPart::new(c, *k)).collect(),
+                fixed_part: quads.iter().map(|(c, k)| FixedPart::new(c, *k, false)).collect(),
                 shortest_squared: (0..count)
                     .map(|i| if i % 3 == 2 { 0.05 * rnd().abs() } else { 0.0 })
                     .collect(),

@@ -1,4 +1,5 @@
-//! A validated 2D quad mesh: flat vertex and quad arrays, fixed flags, consistent orientation.
+//! A validated 2D quad or quad-dominant mesh: flat vertex and face arrays (a triangle is a
+//! face with [`crate::face::NO_VERTEX`] fourth), fixed flags, consistent orientation.
 //!
 //! Validation names the offending quad or vertex. A closed component (one without a boundary
 //! edge, such as a periodic grid whose quads wrap around) is refused: a closed surface cannot
@@ -16,7 +17,9 @@ use crate::alloc::{try_copy, try_filled, try_push, try_with_capacity};
 use crate::error::{Error, Result};
 use glam::DVec2;
 
-/// A validated planar quad mesh.
+/// A validated planar quad mesh, or quad-dominant mesh (triangles among the quads, built with
+/// [`QuadMesh::with_faces`]). "Quad" in the names of its methods means "face" where the mesh
+/// has triangles: [`QuadMesh::quads`] and [`QuadMesh::faces`] are the same array.
 #[derive(Clone, Debug)]
 pub struct QuadMesh {
     points: Vec<DVec2>,

@@ -32,6 +32,17 @@
 #include <stdint.h>
 
 /**
+ * The fourth index of a triangle in the face arrays ("no vertex"): every function that takes
+ * `quads` reads four `uint32_t` per face, a quad as four vertex indices and a triangle as
+ * three followed by `QUADOPT_NO_VERTEX`, so a quad-dominant mesh (quads and triangles) uses
+ * the same arrays, the same stride and the same functions as a quad mesh. Anywhere else in a
+ * face (its first three slots) it is an index out of range
+ * (`QUADOPT_STATUS_INDEX_OUT_OF_RANGE`). Equal to `UINT32_MAX`, never a valid index (a mesh
+ * has at most `UINT32_MAX` vertices, numbered from 0).
+ */
+#define QUADOPT_NO_VERTEX 4294967295
+
+/**
  * Major version of the library (the `x` of `x.y.z`).
  */
 #define QUADOPT_VERSION_MAJOR 0
@@ -62,7 +73,9 @@ typedef enum QuadoptStatus {
     QUADOPT_STATUS_NULL_POINTER = 1,
     /**
      * A dimension other than 2 or 3, a count whose byte size overflows, a buffer that is too
-     * small or misaligned, or a `struct_size` smaller than this version's struct.
+     * small or misaligned, or a `struct_size` smaller than this version's struct. (Also the
+     * status of a face with other than 3 or 4 vertices, which the four-slot face layout
+     * cannot express; the C++ adapters use it for such faces of a mesh library's mesh.)
      */
     QUADOPT_STATUS_INVALID_ARGUMENT = 2,
     /**
@@ -70,15 +83,16 @@ typedef enum QuadoptStatus {
      */
     QUADOPT_STATUS_INVALID_OPTION = 3,
     /**
-     * The mesh has no quads.
+     * The mesh has no faces (no quads and no triangles).
      */
     QUADOPT_STATUS_NO_QUADS = 4,
     /**
-     * A quad refers to a vertex index >= vertex_count.
+     * A face refers to a vertex index >= vertex_count (`QUADOPT_NO_VERTEX` anywhere but in
+     * a face's fourth slot included).
      */
     QUADOPT_STATUS_INDEX_OUT_OF_RANGE = 5,
     /**
-     * A quad uses the same vertex twice.
+     * A face uses the same vertex twice.
      */
     QUADOPT_STATUS_REPEATED_VERTEX = 6,
     /**
@@ -427,11 +441,33 @@ typedef struct QuadoptQuality {
 } QuadoptQuality;
 
 /**
+ * Quality statistics of the faces of one kind (the quads, or the triangles) of a mesh. When
+ * the mesh has no face of the kind, `count` is 0 and `min` and `avg` are NaN.
+ */
+typedef struct QuadoptFaceKindQuality {
+    /**
+     * Number of faces of the kind.
+     */
+    size_t count;
+    /**
+     * Smallest scaled Jacobian among them (NaN when `count` is 0).
+     */
+    double min;
+    /**
+     * Mean scaled Jacobian over them (NaN when `count` is 0).
+     */
+    double avg;
+} QuadoptFaceKindQuality;
+
+/**
  * What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
  * library writes only the first `struct_size` bytes (at most its own struct) and, on success,
  * sets `struct_size` to the number of bytes it filled. Every size a published header declared
- * is accepted, from the first (200 bytes on LP64, ending before `max_min`) on; a
- * `struct_size` smaller than that is `QUADOPT_STATUS_INVALID_ARGUMENT`.
+ * is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, and 248 (0.2,
+ * ending after `reserved2`, before the per-kind fields); a `struct_size` smaller than the
+ * first is `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields
+ * (`input`, `output`, `sweeps`) cover every face; the per-kind fields at the end split
+ * `input` and `output` into the quads and the triangles.
  */
 typedef struct QuadoptReport {
     /**
@@ -537,6 +573,23 @@ typedef struct QuadoptReport {
      * Reserved; written as 0.
      */
     uint32_t reserved2;
+    /**
+     * `input` over the quads alone. Added with triangle support: written only when the
+     * caller's `struct_size` covers it (as for every field below).
+     */
+    struct QuadoptFaceKindQuality input_quads;
+    /**
+     * `input` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
+     */
+    struct QuadoptFaceKindQuality input_triangles;
+    /**
+     * `output` over the quads alone.
+     */
+    struct QuadoptFaceKindQuality output_quads;
+    /**
+     * `output` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
+     */
+    struct QuadoptFaceKindQuality output_triangles;
 } QuadoptReport;
 
 #ifdef __cplusplus
@@ -590,8 +643,11 @@ struct QuadoptReport quadopt_report_init(void);
  *
  * - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
  * - `dim`: 2 or 3 doubles per vertex.
- * - `quads`: `4 * quad_count` vertex indices, four per quad in boundary order; NULL only if
- *   `quad_count` is 0. Quads may be given clockwise or counter-clockwise. Each connected part
+ * - `quads`: `4 * quad_count` vertex indices, four per face in boundary order; NULL only if
+ *   `quad_count` is 0 (`quad_count` counts faces). A quad is four indices; a triangle is three
+ *   followed by `QUADOPT_NO_VERTEX` (a quad-dominant mesh: quads and triangles; triangles are
+ *   kept as triangles and their quality counts too). Faces may be given clockwise or
+ *   counter-clockwise. Each connected part
  *   of the mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
  *   whose quads wrap around) cannot lie flat in a plane without folds and is
  *   `QUADOPT_STATUS_CLOSED_MESH`.
@@ -613,11 +669,12 @@ enum QuadoptStatus quadopt_optimize(double *coords,
                                     struct QuadoptReport *report);
 
 /**
- * Measures the quality of a mesh without changing it: statistics into `*out` (required)
- * and, if `per_quad` is not NULL, each quad's scaled Jacobian into `per_quad[0..quad_count]`
- * (`per_quad_len` must be >= `quad_count`). Quality is measured against the mesh's
- * consistent orientation, so a mesh given clockwise scores like its mirror image. Arrays as
- * in `quadopt_optimize()`. Nothing is written on error.
+ * Measures the quality of a mesh without changing it: statistics over every face into `*out`
+ * (required) and, if `per_quad` is not NULL, each face's scaled Jacobian (a triangle's is
+ * Verdict's triangle scaled Jacobian: 1 for an equilateral one) into
+ * `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
+ * against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
+ * image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
  *
  * # Safety
  * Every non-NULL pointer must point to (aligned) memory of the size described, valid for the

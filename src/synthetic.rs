@@ -12,7 +12,9 @@
 
 use crate::alloc::{try_filled, try_with_capacity};
 use crate::error::{Error, Result};
+use crate::face::{Face, triangle};
 use crate::mesh::QuadMesh;
+use crate::quality::{corners, scaled_jacobian};
 use glam::DVec2;
 use rand_core::{RngCore, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -71,6 +73,56 @@ impl Synthetic {
     /// [`Synthetic::holes`]), or [`Error::OutOfMemory`] for a grid too large for the memory
     /// available (checked before anything of that size is allocated).
     pub fn try_generate(&self) -> Result<QuadMesh> {
+        let (points, quads, _) = self.grid()?;
+        QuadMesh::new(points, quads, None)
+    }
+
+    /// Builds a quad-dominant mesh: the mesh of [`Synthetic::try_generate`] (the same
+    /// vertices, at the same positions) with `round(triangles * quads)` of its quads, chosen by
+    /// the seeded generator, each split along a diagonal into two triangles (the diagonal whose
+    /// worse triangle has the larger scaled Jacobian; the first one on a tie). Deterministic
+    /// like the quad mesh; `triangles = 0` gives that mesh. Fails where
+    /// [`Synthetic::try_generate`] does, and with [`Error::InvalidOption`] (`"triangles"`) for a
+    /// fraction outside [0, 1].
+    ///
+    /// ```
+    /// use quadopt::synthetic::Synthetic;
+    /// let s = Synthetic { nx: 20, ny: 20, holes: 0, ..Synthetic::default() };
+    /// let mesh = s.generate_quad_dominant(0.25).unwrap();
+    /// assert_eq!(mesh.triangle_count(), 2 * 100);
+    /// assert_eq!(mesh.faces().len() - mesh.triangle_count(), 300);
+    /// assert_eq!(mesh.points(), s.generate().points());
+    /// ```
+    pub fn generate_quad_dominant(&self, triangles: f64) -> Result<QuadMesh> {
+        if !(0.0..=1.0).contains(&triangles) {
+            return Err(Error::InvalidOption {
+                name: "triangles",
+                reason: format!("the fraction of quads split into triangles, {triangles}, is not in [0, 1]"),
+            });
+        }
+        let (points, quads, mut rng) = self.grid()?;
+        let split = (triangles * quads.len() as f64).round() as usize;
+        let mut faces = try_with_capacity(quads.len() + split, "faces")?;
+        // Selection sampling (Knuth's algorithm S): exactly `split` quads, each set of them
+        // equally likely, in one pass.
+        let mut wanted = split;
+        for (seen, q) in quads.iter().enumerate() {
+            let left = (quads.len() - seen) as u64;
+            if wanted > 0 && rng.next_u64() % left < wanted as u64 {
+                wanted -= 1;
+                let [a, b] = split_quad(&points, q);
+                faces.push(a);
+                faces.push(b);
+            } else {
+                faces.push(*q);
+            }
+        }
+        drop(quads);
+        QuadMesh::with_faces(points, faces, None)
+    }
+
+    /// The grid's vertices and quads (counter-clockwise), and the generator after the jitter.
+    fn grid(&self) -> Result<(Vec<DVec2>, Vec<[u32; 4]>, Pcg64Mcg)> {
         let (nx, ny) = (self.nx.max(1) as usize, self.ny.max(1) as usize);
         // Every grid point gets an index below u32::MAX (the mark of an unused point).
         let grid_points = (nx as u128 + 1) * (ny as u128 + 1);
@@ -141,7 +193,7 @@ impl Synthetic {
             }
         }
         drop((incident, index, kept));
-        QuadMesh::new(points, quads, None)
+        Ok((points, quads, rng))
     }
 
     /// Which cells survive: those whose centre lies outside every hole. A hole's radius is
@@ -179,6 +231,18 @@ fn lattice_side(holes: u32) -> usize {
 /// The lattice cell (of `k` along a side of length `len`) that holds the coordinate `x`.
 fn lattice_cell(x: f64, len: f64, k: usize) -> usize {
     ((x * k as f64 / len) as usize).min(k - 1)
+}
+
+/// The quad `q` as two triangles, split along the diagonal that makes the worse of them
+/// better (the diagonal from the first corner on a tie): a non-convex quad is split along
+/// its inside diagonal. Both keep the quad's orientation.
+fn split_quad(points: &[DVec2], q: &[u32; 4]) -> [Face; 2] {
+    let [a, b, c, d] = *q;
+    let worse = |s: [Face; 2]| {
+        s.map(|t| scaled_jacobian(&corners(points, &t))).into_iter().fold(f64::INFINITY, f64::min)
+    };
+    let (first, second) = ([triangle(a, b, c), triangle(a, c, d)], [triangle(a, b, d), triangle(b, c, d)]);
+    if worse(second) > worse(first) { second } else { first }
 }
 
 /// A uniform number in [-1, 1) from 53 random bits.

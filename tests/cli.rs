@@ -160,9 +160,15 @@ fn errors_are_one_line_with_the_right_exit_code_and_no_output() {
         "out.stl: unknown mesh format",
         Some(&dir.join("out.stl")),
     );
-    let tri = dir.join("tri.off");
-    std::fs::write(&tri, "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n3 0 2 3\n").unwrap();
-    fails(&["optimize", s(&tri), "-o", o], 1, "tri.off: line 8: cell 1 is a triangle", Some(&out));
+    let penta = dir.join("penta.off");
+    std::fs::write(&penta, "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n4 0 1 2 3\n5 0 4 1 2 3\n")
+        .unwrap();
+    fails(
+        &["optimize", s(&penta), "-o", o],
+        1,
+        "penta.off: line 9: cell 1 is a polygon with 5 vertices; only triangles and quads",
+        Some(&out),
+    );
     let curved = dir.join("curved.obj");
     std::fs::write(&curved, "v 0 0 0\nv 1 0 0\nv 1 1 1\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n")
         .unwrap();

@@ -150,36 +150,41 @@ const VTK_HEAD: &str = "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTUR
 
 #[test]
 fn non_quad_cells_are_named() {
+    // Triangles are read (tests/io_triangles.rs has the rest); other cells are named.
     let vtk = format!("{VTK_HEAD}CELLS 2 9\n4 0 1 4 3\n3 1 2 5\nCELL_TYPES 2\n9\n5\n");
+    let m = io::read_mesh_str(&vtk, Format::Vtk).unwrap();
+    assert_eq!(m.quads, vec![[0, 1, 4, 3], quadopt::face::triangle(1, 2, 5)]);
+    let vtk = format!("{VTK_HEAD}CELLS 2 11\n4 0 1 4 3\n5 1 2 5 4 0\nCELL_TYPES 2\n9\n7\n");
     let e = read_err(&vtk, Format::Vtk);
     assert!(
-        matches!(&e, IoError::NonQuad { line: 17, cell: 1, kind } if kind == "triangle (VTK type 5)"),
+        matches!(&e, IoError::NonQuad { line: 17, cell: 1, kind } if kind == "polygon (VTK type 7) with 5 vertices"),
         "{e:?}"
     );
     assert_eq!(
         e.to_string(),
-        "line 17: cell 1 is a triangle (VTK type 5); only quads are supported (cell numbers are 0-based)"
+        "line 17: cell 1 is a polygon (VTK type 7) with 5 vertices; only triangles and quads are supported \
+         (cell numbers are 0-based)"
     );
     let vtk = format!("{VTK_HEAD}CELLS 2 8\n4 0 1 4 3\n2 1 2\nCELL_TYPES 2\n9\n3\n");
     assert!(
         matches!(read_err(&vtk, Format::Vtk), IoError::NonQuad { cell: 1, kind, .. } if kind == "line (VTK type 3)")
     );
-    let poly = VTK_HEAD.replace("UNSTRUCTURED_GRID", "POLYDATA") + "POLYGONS 2 9\n4 0 1 4 3\n3 1 2 5\n";
+    let poly = VTK_HEAD.replace("UNSTRUCTURED_GRID", "POLYDATA") + "POLYGONS 2 11\n4 0 1 4 3\n5 1 2 5 4 0\n";
     assert!(
-        matches!(read_err(&poly, Format::Vtk), IoError::NonQuad { line: 14, cell: 1, kind } if kind == "polygon with 3 vertices")
+        matches!(read_err(&poly, Format::Vtk), IoError::NonQuad { line: 14, cell: 1, kind } if kind == "polygon with 5 vertices")
     );
-    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3\n";
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3 4 1\n";
     assert!(
-        matches!(read_err(obj, Format::Obj), IoError::NonQuad { line: 6, cell: 1, kind } if kind == "triangle")
+        matches!(read_err(obj, Format::Obj), IoError::NonQuad { line: 6, cell: 1, kind } if kind == "polygon with 5 vertices")
     );
     let off = "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n5 0 1 2 3 0\n";
     assert!(
         matches!(read_err(off, Format::Off), IoError::NonQuad { line: 7, cell: 0, kind } if kind == "polygon with 5 vertices")
     );
-    let msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n\
-        $Elements\n2\n1 1 2 0 1 1 2\n2 2 2 0 1 1 2 3\n$EndElements\n";
+    let msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n\
+        $Elements\n2\n1 1 2 0 1 1 2\n2 4 2 0 1 1 2 3 4\n$EndElements\n";
     assert!(
-        matches!(read_err(msh, Format::Msh), IoError::NonQuad { line: 13, cell: 1, kind } if kind == "triangle (Gmsh element type 2)")
+        matches!(read_err(msh, Format::Msh), IoError::NonQuad { line: 14, cell: 1, kind } if kind == "tetrahedron (Gmsh element type 4)")
     );
 }
 

@@ -216,17 +216,25 @@ fn malformed_files_give_one_line_errors() {
     let m = err(&corrupt);
     assert!(m.contains("zlib block"), "{m}");
 
-    // Cells that are not quads, and indices out of range.
+    // Cells that are neither triangles nor quads, cells whose offsets disagree with their type,
+    // and indices out of range.
     let ascii = vtk_file("ascii.vtu");
     let text = String::from_utf8(ascii).unwrap();
     let types_at = text.find(r#"Name="types""#).unwrap();
     let line = types_at + text[types_at..].find('\n').unwrap() + 1;
+    let nine = line + text[line..].find('9').unwrap();
+    let mut polygon = text.clone();
+    polygon.replace_range(nine..nine + 1, "7");
+    assert_eq!(
+        err(polygon.as_bytes()),
+        "unsupported: cell 0 is of VTK type 7 (polygon) with 4 vertices; only triangles (type 5) and quads \
+         (type 9) are read (cell numbers are 0-based)"
+    );
     let mut tri = text.clone();
-    let nine = line + tri[line..].find('9').unwrap();
     tri.replace_range(nine..nine + 1, "5");
     assert_eq!(
         err(tri.as_bytes()),
-        "unsupported: cell 0 is of VTK type 5; only quads (type 9) are read (cell numbers are 0-based)"
+        "offsets: cell 0 ends at 4 after starting at 0 (a triangle has 3 vertices; cell numbers are 0-based)"
     );
     let conn = text.find(r#"Name="connectivity""#).unwrap();
     let line = conn + text[conn..].find('\n').unwrap() + 1;

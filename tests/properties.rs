@@ -701,7 +701,7 @@ proptest! {
     fn readers_never_panic_on_mutated_files((format, bytes) in mutated_file()) {
         if let Ok(d) = io::read_mesh_bytes(&bytes, format) {
             prop_assert!(d.check().is_ok());
-            prop_assert!(d.quads.iter().flat_map(|f| quadopt::face::vertices(f)).all(|&v| (v as usize) < d.points.len()));
+            prop_assert!(d.quads.iter().flat_map(quadopt::face::vertices).all(|&v| (v as usize) < d.points.len()));
         }
     }
 }

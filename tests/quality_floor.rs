@@ -31,13 +31,14 @@ const TOLERANCE: f64 = 1e-3;
 /// 0.97; with it the ratio is at least 0.21 of that on every mesh here.
 const EDGE_RATIO_KEPT: f64 = 0.1;
 
-/// Smallest shortest/longest edge ratio over the quads of `mesh`.
+/// Smallest shortest/longest edge ratio over the faces of `mesh`, each over its own edges.
 fn edge_ratio(mesh: &QuadMesh) -> f64 {
     let p = mesh.points();
     mesh.quads()
         .iter()
         .map(|q| {
-            let e: Vec<f64> = (0..4).map(|i| p[q[i] as usize].distance(p[q[(i + 1) % 4] as usize])).collect();
+            let n = quadopt::face::corner_count(q);
+            let e: Vec<f64> = (0..n).map(|i| p[q[i] as usize].distance(p[q[(i + 1) % n] as usize])).collect();
             e.iter().copied().fold(f64::INFINITY, f64::min) / e.iter().copied().fold(0.0, f64::max)
         })
         .fold(f64::INFINITY, f64::min)

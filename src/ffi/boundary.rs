@@ -11,6 +11,17 @@ use std::panic::{self, AssertUnwindSafe};
 use super::quiet;
 use super::status::{FfiError, QuadoptStatus, set_last_error};
 
+/// The fourth index of a triangle in the face arrays ("no vertex"): every function that takes
+/// `quads` reads four `uint32_t` per face, a quad as four vertex indices and a triangle as
+/// three followed by `QUADOPT_NO_VERTEX`, so a quad-dominant mesh (quads and triangles) uses
+/// the same arrays, the same stride and the same functions as a quad mesh. Anywhere else in a
+/// face (its first three slots) it is an index out of range
+/// (`QUADOPT_STATUS_INDEX_OUT_OF_RANGE`). Equal to `UINT32_MAX`, never a valid index (a mesh
+/// has at most `UINT32_MAX` vertices, numbered from 0).
+pub const QUADOPT_NO_VERTEX: u32 = 0xFFFF_FFFF;
+
+const _: () = assert!(QUADOPT_NO_VERTEX == crate::face::NO_VERTEX, "the C sentinel is the face model's");
+
 fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     if let Some(s) = payload.downcast_ref::<&str>() {
         (*s).to_owned()
@@ -157,7 +168,8 @@ pub(super) unsafe fn read_points(
     Ok(points)
 }
 
-/// Reads `quad_count` quads of four `uint32_t` indices into owned memory.
+/// Reads `quad_count` faces of four `uint32_t` indices into owned memory (a triangle's fourth
+/// is [`QUADOPT_NO_VERTEX`], which [`QuadMesh::with_faces`] checks).
 ///
 /// # Safety
 /// `quads` must be NULL with `quad_count == 0`, or point to `4 * quad_count` indices.
@@ -213,7 +225,9 @@ pub(super) unsafe fn read_mesh(
     let quads = unsafe { read_quads(quads, quad_count) }?;
     // SAFETY: forwarded from this function's contract.
     let fixed = unsafe { read_fixed(fixed, vertex_count) }?;
-    Ok(QuadMesh::new(points, quads, fixed)?)
+    // Faces: quads, and triangles with QUADOPT_NO_VERTEX fourth (a quad-only array builds the
+    // mesh QuadMesh::new would).
+    Ok(QuadMesh::with_faces(points, quads, fixed)?)
 }
 
 /// Writes x and y of every point into the caller's strided array; z is never written.

@@ -19,6 +19,10 @@
 //!   buffer read by `quadopt_last_error`, and prints nothing (`ffi/quiet.rs`). The only other
 //!   global state is the worker pool.
 //!
+//! Faces: every array of faces (`quads`) has four `uint32_t` per face; a triangle stores
+//! `QUADOPT_NO_VERTEX` (`face::NO_VERTEX`) in its fourth slot, so quad-only callers see no
+//! change and a quad-dominant mesh goes through the same functions (see `boundary.rs`).
+//!
 //! Enum-valued option fields are plain `u32` in the structs (a C caller can store any integer
 //! there, which must never be read as a Rust enum) and are validated when converted.
 //! Growable structs (`QuadoptOptions`, `QuadoptReport`) start with `struct_size`: the
@@ -79,6 +83,7 @@ mod quiet;
 #[cfg(test)]
 mod test_support;
 
+pub use boundary::QUADOPT_NO_VERTEX;
 pub use handle::{
     QuadoptOptimizer, quadopt_optimizer_create, quadopt_optimizer_free, quadopt_optimizer_optimize,
 };
@@ -86,7 +91,7 @@ pub use options::{
     QuadoptBoundary, QuadoptEffort, QuadoptMethod, QuadoptOptions, QuadoptProgress, QuadoptProgressFn,
     QuadoptStopRule, quadopt_options_init,
 };
-pub use report::{QuadoptQuality, QuadoptReport, quadopt_report_init};
+pub use report::{QuadoptFaceKindQuality, QuadoptQuality, QuadoptReport, quadopt_report_init};
 pub use run::{quadopt_optimize, quadopt_quality, run_bytes, topology_bytes};
 pub use status::{QuadoptStatus, quadopt_last_error, quadopt_status_string};
 pub use version::{

@@ -2,7 +2,7 @@
 //! declared is written), its conversion from the crate's [`Report`], and
 //! [`quadopt_report_init`].
 
-use crate::quality::QualityStats;
+use crate::quality::{ByFaceKind, QualityStats};
 use crate::smooth::{BoundaryMode, Report};
 use std::mem::size_of;
 
@@ -25,11 +25,27 @@ pub struct QuadoptQuality {
     pub inverted: usize,
 }
 
+/// Quality statistics of the faces of one kind (the quads, or the triangles) of a mesh. When
+/// the mesh has no face of the kind, `count` is 0 and `min` and `avg` are NaN.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct QuadoptFaceKindQuality {
+    /// Number of faces of the kind.
+    pub count: usize,
+    /// Smallest scaled Jacobian among them (NaN when `count` is 0).
+    pub min: f64,
+    /// Mean scaled Jacobian over them (NaN when `count` is 0).
+    pub avg: f64,
+}
+
 /// What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
 /// library writes only the first `struct_size` bytes (at most its own struct) and, on success,
 /// sets `struct_size` to the number of bytes it filled. Every size a published header declared
-/// is accepted, from the first (200 bytes on LP64, ending before `max_min`) on; a
-/// `struct_size` smaller than that is `QUADOPT_STATUS_INVALID_ARGUMENT`.
+/// is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, and 248 (0.2,
+/// ending after `reserved2`, before the per-kind fields); a `struct_size` smaller than the
+/// first is `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields
+/// (`input`, `output`, `sweeps`) cover every face; the per-kind fields at the end split
+/// `input` and `output` into the quads and the triangles.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct QuadoptReport {
@@ -86,11 +102,25 @@ pub struct QuadoptReport {
     pub effort: u32,
     /// Reserved; written as 0.
     pub reserved2: u32,
+    /// `input` over the quads alone. Added with triangle support: written only when the
+    /// caller's `struct_size` covers it (as for every field below).
+    pub input_quads: QuadoptFaceKindQuality,
+    /// `input` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
+    pub input_triangles: QuadoptFaceKindQuality,
+    /// `output` over the quads alone.
+    pub output_quads: QuadoptFaceKindQuality,
+    /// `output` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
+    pub output_triangles: QuadoptFaceKindQuality,
 }
 
 /// Size of the first published `QuadoptReport` (the same growth rule): it ended where
 /// `max_min` begins.
 pub(super) const REPORT_V1_SIZE: usize = std::mem::offset_of!(QuadoptReport, max_min);
+
+/// Size of the `QuadoptReport` before the per-kind fields (0.2): it ended where `input_quads`
+/// begins.
+#[cfg(test)]
+pub(super) const REPORT_V2_SIZE: usize = std::mem::offset_of!(QuadoptReport, input_quads);
 
 /// Reads the caller's declared report size, if a report was asked for.
 ///
@@ -132,7 +162,23 @@ pub(super) fn quality_of(s: &QualityStats) -> QuadoptQuality {
     QuadoptQuality { min: s.min, avg: s.avg, max: s.max, inverted: s.inverted }
 }
 
+/// The statistics of one face kind: `count` faces whose statistics are `stats` (`None` when
+/// there are none, then NaN).
+fn kind_of(count: usize, stats: Option<QualityStats>) -> QuadoptFaceKindQuality {
+    match stats {
+        Some(s) if count > 0 => QuadoptFaceKindQuality { count, min: s.min, avg: s.avg },
+        _ => QuadoptFaceKindQuality { count, min: f64::NAN, avg: f64::NAN },
+    }
+}
+
+/// The quads' and the triangles' statistics of `k`.
+fn kinds_of(k: &ByFaceKind) -> (QuadoptFaceKindQuality, QuadoptFaceKindQuality) {
+    (kind_of(k.quad_count, k.quads), kind_of(k.triangle_count, k.triangles))
+}
+
 pub(super) fn report_of(r: &Report) -> QuadoptReport {
+    let (input_quads, input_triangles) = kinds_of(&r.input_by_kind);
+    let (output_quads, output_triangles) = kinds_of(&r.output_by_kind);
     let count = |mode| r.loop_modes.iter().filter(|&&m| m == mode).count();
     QuadoptReport {
         struct_size: size_of::<QuadoptReport>() as u32,
@@ -160,6 +206,10 @@ pub(super) fn report_of(r: &Report) -> QuadoptReport {
         sweeps: quality_of(&r.max_min.map_or(r.output, |g| g.before)),
         effort: QuadoptEffort::of(r.effort) as u32,
         reserved2: 0,
+        input_quads,
+        input_triangles,
+        output_quads,
+        output_triangles,
     }
 }
 
@@ -216,6 +266,59 @@ mod tests {
     }
 
     #[test]
+    fn older_report_sizes_are_filled_by_prefix_and_get_no_per_kind_fields() {
+        for size in [REPORT_V1_SIZE, REPORT_V2_SIZE] {
+            let (coords, quads) = patch(2);
+            let mut report = QuadoptReport { struct_size: size as u32, ..sentinel_report() };
+            report.input_quads.count = 0xDEAD;
+            report.output_triangles.min = -9.0;
+            let untouched = bytes_of(&report)[size..].to_vec();
+            let mut c = coords.clone();
+            let o = fixed_boundary_options();
+            // SAFETY: live buffers; the report holds more than its declared bytes.
+            let s =
+                unsafe { quadopt_optimize(c.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), &o, &mut report) };
+            assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+            assert_eq!(report.struct_size as usize, size, "bytes filled");
+            assert_eq!(report.output.inverted, 0);
+            assert_eq!(
+                bytes_of(&report)[size..],
+                untouched[..],
+                "bytes beyond struct_size {size} were written"
+            );
+        }
+    }
+
+    #[test]
+    fn the_per_kind_fields_split_a_quad_mesh_and_nan_the_absent_kind() {
+        let (mut coords, quads) = patch(2);
+        let mut r = quadopt_report_init();
+        let o = fixed_boundary_options();
+        // SAFETY: live buffers of the stated lengths.
+        let s = unsafe { quadopt_optimize(coords.as_mut_ptr(), 2, 9, quads.as_ptr(), 4, null(), &o, &mut r) };
+        assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+        assert_eq!((r.input_quads.count, r.output_quads.count), (4, 4));
+        assert_eq!((r.input_quads.min, r.input_quads.avg), (r.input.min, r.input.avg));
+        assert_eq!((r.output_quads.min, r.output_quads.avg), (r.output.min, r.output.avg));
+        for t in [r.input_triangles, r.output_triangles] {
+            assert_eq!(t.count, 0);
+            assert!(t.min.is_nan() && t.avg.is_nan(), "{t:?}");
+        }
+    }
+
+    #[test]
+    fn per_kind_statistics_convert_with_nan_for_an_absent_kind() {
+        let faces = [[0, 1, 2, 3], crate::face::triangle(1, 4, 2), crate::face::triangle(2, 4, 5)];
+        let k = ByFaceKind::new(&faces, &[0.5, 0.25, 0.75]);
+        let (q, t) = kinds_of(&k);
+        assert_eq!(q, QuadoptFaceKindQuality { count: 1, min: 0.5, avg: 0.5 });
+        assert_eq!(t, QuadoptFaceKindQuality { count: 2, min: 0.25, avg: 0.5 });
+        let (q, t) = kinds_of(&ByFaceKind::new(&faces[1..], &[0.25, 0.75]));
+        assert_eq!((q.count, t.count), (0, 2));
+        assert!(q.min.is_nan() && q.avg.is_nan());
+    }
+
+    #[test]
     fn report_init_is_zeroed_with_struct_size() {
         let r = quadopt_report_init();
         assert_eq!(r.struct_size as usize, size_of::<QuadoptReport>());
@@ -228,7 +331,10 @@ mod tests {
         // of the prefix protocol never copy padding, and as a guard against reordering).
         if size_of::<usize>() == 8 {
             assert_eq!(size_of::<QuadoptOptions>(), 96);
-            assert_eq!(size_of::<QuadoptReport>(), 248);
+            assert_eq!(size_of::<QuadoptReport>(), 344);
+            assert_eq!(size_of::<QuadoptFaceKindQuality>(), 24);
+            assert_eq!(REPORT_V2_SIZE, 248, "0.2's report");
+            assert_eq!(std::mem::offset_of!(QuadoptReport, output_triangles), 320);
             assert_eq!(size_of::<QuadoptQuality>(), 32);
             assert_eq!(size_of::<QuadoptProgress>(), 48);
             assert_eq!(std::mem::offset_of!(QuadoptOptions, progress), 64);

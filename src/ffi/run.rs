@@ -125,8 +125,11 @@ pub(super) fn run(
 ///
 /// - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
 /// - `dim`: 2 or 3 doubles per vertex.
-/// - `quads`: `4 * quad_count` vertex indices, four per quad in boundary order; NULL only if
-///   `quad_count` is 0. Quads may be given clockwise or counter-clockwise. Each connected part
+/// - `quads`: `4 * quad_count` vertex indices, four per face in boundary order; NULL only if
+///   `quad_count` is 0 (`quad_count` counts faces). A quad is four indices; a triangle is three
+///   followed by `QUADOPT_NO_VERTEX` (a quad-dominant mesh: quads and triangles; triangles are
+///   kept as triangles and their quality counts too). Faces may be given clockwise or
+///   counter-clockwise. Each connected part
 ///   of the mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
 ///   whose quads wrap around) cannot lie flat in a plane without folds and is
 ///   `QUADOPT_STATUS_CLOSED_MESH`.
@@ -169,11 +172,12 @@ pub unsafe extern "C" fn quadopt_optimize(
     })
 }
 
-/// Measures the quality of a mesh without changing it: statistics into `*out` (required)
-/// and, if `per_quad` is not NULL, each quad's scaled Jacobian into `per_quad[0..quad_count]`
-/// (`per_quad_len` must be >= `quad_count`). Quality is measured against the mesh's
-/// consistent orientation, so a mesh given clockwise scores like its mirror image. Arrays as
-/// in `quadopt_optimize()`. Nothing is written on error.
+/// Measures the quality of a mesh without changing it: statistics over every face into `*out`
+/// (required) and, if `per_quad` is not NULL, each face's scaled Jacobian (a triangle's is
+/// Verdict's triangle scaled Jacobian: 1 for an equilateral one) into
+/// `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
+/// against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
+/// image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
 ///
 /// # Safety
 /// Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
@@ -432,6 +436,117 @@ mod tests {
         assert_eq!((s, thread_count(baseline + 3)), (QuadoptStatus::Ok, baseline + 3));
         assert_eq!(single, pooled, "the thread count changed the result");
         assert!((f64::from_bits(pooled[8]) - 1.0).abs() < 1e-3);
+    }
+
+    /// A unit square [0, 1, 2, 3] and the equilateral triangle on its right edge, given with
+    /// the sentinel: 5 vertices, 2 faces.
+    fn square_and_triangle() -> (Vec<f64>, Vec<u32>) {
+        let h = 3f64.sqrt() / 2.0;
+        let coords = vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0 + h, 0.5];
+        (coords, vec![0, 1, 2, 3, 1, 4, 2, QUADOPT_NO_VERTEX])
+    }
+
+    #[test]
+    fn the_sentinel_makes_a_triangle_and_is_out_of_range_elsewhere() {
+        assert_eq!(QUADOPT_NO_VERTEX, crate::face::NO_VERTEX);
+        let (coords, faces) = square_and_triangle();
+        let mut q = QuadoptQuality::default();
+        let mut per = [f64::NAN; 2];
+        // SAFETY: live buffers of the stated lengths.
+        let s =
+            unsafe { quadopt_quality(coords.as_ptr(), 2, 5, faces.as_ptr(), 2, &mut q, per.as_mut_ptr(), 2) };
+        assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+        assert_eq!(per[0], 1.0);
+        assert!((per[1] - 1.0).abs() < 1e-12, "the equilateral triangle scores {}", per[1]);
+        assert_eq!((q.min, q.max, q.inverted), (per[0].min(per[1]), per[0].max(per[1]), 0));
+        // A handle takes the same arrays.
+        let mut handle = null_mut();
+        // SAFETY: live buffers; `handle` receives a pointer.
+        let s = unsafe {
+            quadopt_optimizer_create(coords.as_ptr(), 2, 5, faces.as_ptr(), 2, null(), &mut handle)
+        };
+        assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+        // SAFETY: the live handle, freed once.
+        unsafe { quadopt_optimizer_free(handle) };
+        // The sentinel in any of a face's first three slots is an index out of range, naming
+        // the face and the corner; nothing is written.
+        for corner in 0..3 {
+            let mut bad = faces.clone();
+            bad[4 + corner] = QUADOPT_NO_VERTEX;
+            let o = fixed_boundary_options();
+            assert_eq!(optimize_status(&coords, 2, &bad, None, Some(&o)), QuadoptStatus::IndexOutOfRange);
+            let want = format!("quad 1 corner {corner} refers to vertex {}", u32::MAX);
+            assert!(last_error().contains(&want), "{}", last_error());
+            let mut q2 = QuadoptQuality { min: 9.0, ..Default::default() };
+            // SAFETY: live buffers; the call fails on validation.
+            let s =
+                unsafe { quadopt_quality(coords.as_ptr(), 2, 5, bad.as_ptr(), 2, &mut q2, null_mut(), 0) };
+            assert_eq!((s, q2.min), (QuadoptStatus::IndexOutOfRange, 9.0));
+            let mut other = 0x10 as *mut QuadoptOptimizer;
+            // SAFETY: live buffers; the call fails on validation and leaves `other` alone.
+            let s = unsafe {
+                quadopt_optimizer_create(coords.as_ptr(), 2, 5, bad.as_ptr(), 2, null(), &mut other)
+            };
+            assert_eq!((s, other as usize), (QuadoptStatus::IndexOutOfRange, 0x10));
+        }
+        // A triangle repeating a vertex is still a repeated vertex.
+        let repeated = [0, 1, 2, 3, 1, 4, 1, QUADOPT_NO_VERTEX];
+        assert_eq!(optimize_status(&coords, 2, &repeated, None, None), QuadoptStatus::RepeatedVertex);
+    }
+
+    /// The 3x3-vertex patch with its top-right quad [4, 5, 8, 7] split into two triangles.
+    fn mixed_patch() -> (Vec<f64>, Vec<u32>) {
+        let (coords, mut faces) = patch(2);
+        faces.truncate(12);
+        faces.extend([4, 5, 8, QUADOPT_NO_VERTEX, 4, 8, 7, QUADOPT_NO_VERTEX]);
+        (coords, faces)
+    }
+
+    /// Needs the optimizer's triangle support (until it lands a mixed mesh may panic, which
+    /// the boundary turns into QUADOPT_STATUS_PANIC).
+    #[test]
+    fn a_mixed_mesh_is_optimized_through_the_c_abi_with_per_kind_statistics() {
+        let (mut coords, faces) = mixed_patch();
+        let before = coords.clone();
+        let mut r = quadopt_report_init();
+        let o = fixed_boundary_options();
+        // SAFETY: live buffers of the stated lengths.
+        let s = unsafe { quadopt_optimize(coords.as_mut_ptr(), 2, 9, faces.as_ptr(), 5, null(), &o, &mut r) };
+        assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+        for v in (0..9).filter(|&v| v != 4) {
+            assert_eq!(
+                bits(&coords[2 * v..2 * v + 2]),
+                bits(&before[2 * v..2 * v + 2]),
+                "boundary vertex {v}"
+            );
+        }
+        assert_eq!((r.input_quads.count, r.input_triangles.count), (3, 2));
+        assert_eq!((r.output_quads.count, r.output_triangles.count), (3, 2));
+        assert_eq!(r.output.inverted, 0);
+        assert!(r.output.min > r.input.min, "{:?} -> {:?}", r.input, r.output);
+        assert_eq!(r.input.min, r.input_quads.min.min(r.input_triangles.min));
+        assert_eq!(r.output.min, r.output_quads.min.min(r.output_triangles.min));
+        // The per-kind statistics are those of the faces quadopt_quality measures.
+        let mut per = [0.0; 5];
+        let mut q = QuadoptQuality::default();
+        // SAFETY: live buffers of the stated lengths.
+        let s =
+            unsafe { quadopt_quality(coords.as_ptr(), 2, 9, faces.as_ptr(), 5, &mut q, per.as_mut_ptr(), 5) };
+        assert_eq!((s, q), (QuadoptStatus::Ok, r.output));
+        assert_eq!(r.output_quads.min, per[..3].iter().copied().fold(f64::INFINITY, f64::min));
+        assert_eq!(r.output_triangles.min, per[3..].iter().copied().fold(f64::INFINITY, f64::min));
+        // A handle gives the same result.
+        let mut handle = null_mut();
+        let mut again = before.clone();
+        // SAFETY: live buffers; the handle is freed once.
+        unsafe {
+            let s = quadopt_optimizer_create(before.as_ptr(), 2, 9, faces.as_ptr(), 5, null(), &mut handle);
+            assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+            let s = quadopt_optimizer_optimize(handle, again.as_mut_ptr(), 2, 9, &o, null_mut());
+            assert_eq!(s, QuadoptStatus::Ok, "{}", last_error());
+            quadopt_optimizer_free(handle);
+        }
+        assert_eq!(bits(&again), bits(&coords));
     }
 
     #[test]

@@ -19,15 +19,18 @@ pub enum QuadoptStatus {
     /// A required pointer was NULL (or an array pointer was NULL with a nonzero count).
     NullPointer = 1,
     /// A dimension other than 2 or 3, a count whose byte size overflows, a buffer that is too
-    /// small or misaligned, or a `struct_size` smaller than this version's struct.
+    /// small or misaligned, or a `struct_size` smaller than this version's struct. (Also the
+    /// status of a face with other than 3 or 4 vertices, which the four-slot face layout
+    /// cannot express; the C++ adapters use it for such faces of a mesh library's mesh.)
     InvalidArgument = 2,
     /// An option is out of its range or an enum-valued option is unknown; the message names it.
     InvalidOption = 3,
-    /// The mesh has no quads.
+    /// The mesh has no faces (no quads and no triangles).
     NoQuads = 4,
-    /// A quad refers to a vertex index >= vertex_count.
+    /// A face refers to a vertex index >= vertex_count (`QUADOPT_NO_VERTEX` anywhere but in
+    /// a face's fourth slot included).
     IndexOutOfRange = 5,
-    /// A quad uses the same vertex twice.
+    /// A face uses the same vertex twice.
     RepeatedVertex = 6,
     /// An edge is shared by more than two quads.
     NonManifold = 7,
@@ -163,6 +166,8 @@ mod tests {
             (Error::InvalidOption { name: "x", reason: String::new() }, S::InvalidOption),
             (Error::NotPlanar { vertex: 0, distance: 1.0, tolerance: 0.5 }, S::NotPlanar),
             (Error::OutOfMemory { what: "points", bytes: 16 }, S::OutOfMemory),
+            (Error::UnsupportedFace { face: 0, corners: 5 }, S::InvalidArgument),
+            (Error::NoThreads { why: String::new() }, S::OutOfMemory),
         ];
         for (e, s) in cases {
             let f = FfiError::from(e.clone());

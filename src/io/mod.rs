@@ -2,6 +2,10 @@
 //! and VTK XML UnstructuredGrid (`.vtu`), read and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
 //! 2D [`QuadMesh`](crate::QuadMesh) the optimizer works on ([`planar`]).
 //!
+//! Every format reads and writes quad-dominant meshes: quads and triangles, in the file's
+//! order (a triangle is stored as in [`crate::face`], [`NO_VERTEX`](crate::face::NO_VERTEX)
+//! fourth). A face of any other size is an error naming it.
+//!
 //! # Why hand-written parsers
 //! The formats are small and line-oriented, and each available crate misses something this
 //! tool needs: `tobj` re-indexes vertices per object (dropping unused vertices and the file's
@@ -14,33 +18,37 @@
 //! the fuzz targets rely on.
 //!
 //! # What is read
-//! - OBJ: `v` (x y z; a missing z is 0), `f` with 4 vertices (`a`, `a/b`, `a//c`, `a/b/c`,
+//! - OBJ: `v` (x y z; a missing z is 0), `f` with 3 or 4 vertices (`a`, `a/b`, `a//c`, `a/b/c`,
 //!   negative relative indices). Faces with another vertex count and `l`/`p` elements are
 //!   errors; other statements (`vt`, `vn`, `g`, `o`, `usemtl`, ...) are ignored.
-//! - OFF (also `COFF`, `NOFF`, `STOFF` ...: extra per-vertex and per-face values are ignored).
-//! - VTK legacy ASCII, `UNSTRUCTURED_GRID` with quad cells (type 9) or `POLYDATA` with 4-vertex
-//!   `POLYGONS`, in the classic `CELLS n size` layout or VTK 5.1's `OFFSETS`/`CONNECTIVITY`.
+//! - OFF (also `COFF`, `NOFF`, `STOFF` ...: extra per-vertex and per-face values are ignored),
+//!   faces of 3 or 4 vertices.
+//! - VTK legacy ASCII, `UNSTRUCTURED_GRID` with triangle and quad cells (types 5 and 9) or
+//!   `POLYDATA` with 3- and 4-vertex `POLYGONS`, in the classic `CELLS n size` layout or VTK
+//!   5.1's `OFFSETS`/`CONNECTIVITY`.
 //!   A point-data array named `fixed` (`SCALARS` or `FIELD`, any numeric or `bit` type) gives
 //!   the fixed flags (nonzero = fixed); every other attribute is skipped.
 //! - MSH ASCII 2.x and 4.1, and binary 4.1 (gmsh's `Mesh.Binary=1`; the byte-order integer
-//!   is checked, binary 2.2 is refused): nodes in file order (tags may be sparse), 4-node quads
-//!   (type 3). Point and line elements (Gmsh writes them for corners and boundary curves) are
+//!   is checked, binary 2.2 is refused): nodes in file order (tags may be sparse), 3-node
+//!   triangles (type 2) and 4-node quads (type 3). Point and line elements (Gmsh writes them for corners and boundary curves) are
 //!   skipped as elements but give the nodes of the physical groups ([`MeshData::physical_groups`]:
 //!   `$PhysicalNames`, with `$Entities` in 4.1 and the elements' tags in 2.x); any other
-//!   element (triangles, higher-order quads, volumes) is an error. A one-component `$NodeData`
+//!   element (higher-order elements, volumes) is an error. A one-component `$NodeData`
 //!   view named `fixed` gives the fixed flags (nonzero = fixed); other views are skipped.
-//!   Written in the version and encoding read (ASCII 4.1 by default); physical groups are not
+//!   Written in the version and encoding read (ASCII 4.1 by default; in 4.1, one element block
+//!   per run of faces of one kind, so the file keeps the faces' order); physical groups are not
 //!   written back.
-//! - VTU: one `<Piece>` of quad cells (type 9), data arrays in ASCII, inline base64 or
+//! - VTU: one `<Piece>` of triangle and quad cells (types 5 and 9), data arrays in ASCII, inline base64 or
 //!   appended (raw or base64) form, either byte order, UInt32 or UInt64 headers, zlib
 //!   compression or none; the point-data array `fixed` gives the fixed flags. Other arrays
 //!   are skipped. The crates considered and why the reader is hand-written: see the module
 //!   `vtu`'s source.
 //!
-//! Vertices used by no quad are kept as they are, in their place.
+//! Vertices used by no face are kept as they are, in their place.
 //!
 //! # What is written besides the mesh
-//! [`MeshData::quality`] as cell data `scaled_jacobian` and [`MeshData::fixed`] and
+//! [`MeshData::quality`] as cell data `scaled_jacobian` (one value per face, triangles
+//! included, in the file's face order) and [`MeshData::fixed`] and
 //! [`MeshData::corner`] as 0/1 point data of those names: VTK `CELL_DATA` / `POINT_DATA`
 //! `SCALARS`, VTU `<CellData>` / `<PointData>` arrays, MSH `$ElementData` / `$NodeData` views (element and node tags are the 1-based
 //! indices the writers number them by). OBJ and OFF carry none of them.
@@ -97,14 +105,16 @@ pub enum IoError {
     /// malformed.
     #[error("{0}")]
     Malformed(String),
-    /// A cell is not a quad.
-    #[error("line {line}: cell {cell} is a {kind}; only quads are supported (cell numbers are 0-based)")]
+    /// A cell is neither a triangle nor a quad.
+    #[error(
+        "line {line}: cell {cell} is a {kind}; only triangles and quads are supported (cell numbers are 0-based)"
+    )]
     NonQuad {
         /// 1-based line of the cell (or of its type).
         line: usize,
         /// 0-based index of the cell among the file's cells (or faces, or elements).
         cell: usize,
-        /// What the cell is, e.g. "triangle (VTK type 5)".
+        /// What the cell is, e.g. "line (VTK type 3)" or "polygon with 5 vertices".
         kind: String,
     },
     /// A valid file using a feature this reader does not support (binary data, ...).
@@ -177,13 +187,14 @@ pub enum MshVersion {
     V4_1,
 }
 
-/// A quad mesh as stored in a file: 3D points, quads (0-based indices, as given), optional
+/// A quad(-dominant) mesh as stored in a file: 3D points, faces (0-based indices, as given), optional
 /// per-vertex fixed flags, and format details kept for writing the mesh back the same way.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshData {
     /// Vertex coordinates.
     pub points: Vec<[f64; 3]>,
-    /// Quads: four 0-based vertex indices each, in the file's order.
+    /// Faces, in the file's order: quads (four 0-based vertex indices) and triangles (three,
+    /// and [`NO_VERTEX`](crate::face::NO_VERTEX) fourth, as in [`crate::face`]).
     pub quads: Vec<[u32; 4]>,
     /// Per-vertex fixed flags (VTK point-data array `fixed`), if the file had them.
     pub fixed: Option<Vec<bool>>,
@@ -191,7 +202,7 @@ pub struct MeshData {
     pub msh_version: Option<MshVersion>,
     /// Whether a VTK file was `POLYDATA` (written back as such when writing VTK).
     pub vtk_polydata: bool,
-    /// Per-quad signed scaled Jacobian, written as cell data `scaled_jacobian` (VTK/VTU
+    /// Per-face signed scaled Jacobian, written as cell data `scaled_jacobian` (VTK/VTU
     /// `CELL_DATA`, MSH `$ElementData`); readers leave it `None` (they ignore the array).
     pub quality: Option<Vec<f64>>,
     /// Per-vertex corner flags, written as point data `corner`; readers leave it `None`.
@@ -201,7 +212,7 @@ pub struct MeshData {
     /// Whether a VTU file's data blocks were zlib-compressed (written back the same way).
     pub compressed: bool,
     /// Gmsh physical points and curves (MSH files; empty otherwise). Read only: the MSH
-    /// writers write one surface entity with the quads and no groups.
+    /// writers write one surface entity with the faces and no groups.
     pub physical_groups: Vec<PhysicalGroup>,
 }
 
@@ -232,17 +243,17 @@ pub enum Encoding {
 }
 
 impl MeshData {
-    /// A mesh from points and quads, with no fixed flags.
+    /// A mesh from points and faces (quads and triangles), with no fixed flags.
     pub fn new(points: Vec<[f64; 3]>, quads: Vec<[u32; 4]>) -> MeshData {
         MeshData { points, quads, ..MeshData::default() }
     }
 
-    /// Checks that every quad index refers to a point and that the fixed flags (if any) have
+    /// Checks that every face index refers to a point and that the fixed flags (if any) have
     /// one entry per point; writers call this so they never emit a broken file.
     pub fn check(&self) -> Result<(), IoError> {
         let n = self.points.len();
         for (qi, q) in self.quads.iter().enumerate() {
-            for (c, &v) in q.iter().enumerate() {
+            for (c, &v) in crate::face::vertices(q).iter().enumerate() {
                 if v as usize >= n {
                     return Err(crate::Error::IndexOutOfRange {
                         quad: qi,

@@ -1,17 +1,18 @@
-//! Wavefront OBJ: `v` and 4-vertex `f` statements (see the module docs of [`crate::io`]).
+//! Wavefront OBJ: `v` and 3- or 4-vertex `f` statements (see the module docs of [`crate::io`]).
 
 use super::lex::{Tok, clip, parse_f64, parse_i64, try_push};
 use super::{IoError, MeshData, Num};
+use crate::face::{NO_VERTEX, vertices};
 use std::io::Write;
 
 /// Reads an OBJ text.
 pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let mut points: Vec<[f64; 3]> = Vec::new();
     let mut quads: Vec<[u32; 4]> = Vec::new();
-    // The quads whose indices cannot be resolved yet (a vertex not defined so far, or out of
-    // range): (line, quad, vertices defined at the quad, indices as written), checked at the
-    // end as every quad would be, so the error names the first bad quad and the final count.
-    let mut unresolved: Vec<(usize, usize, usize, [i64; 4])> = Vec::new();
+    // The faces whose indices cannot be resolved yet (a vertex not defined so far, or out of
+    // range): (line, face, vertices defined at the face, indices as written), checked at the
+    // end as every face would be, so the error names the first bad face and the final count.
+    let mut unresolved: Vec<(usize, usize, usize, Raw)> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
         let body = line.split('#').next().unwrap_or("");
@@ -38,19 +39,18 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             "f" => {
                 let corners: [Option<&str>; 5] = std::array::from_fn(|_| words.next());
                 let count = corners.iter().filter(|c| c.is_some()).count() + words.count();
-                if count != 4 {
+                if !(3..=4).contains(&count) {
                     let kind = match count {
                         0..=2 => format!("face with {count} vertices"),
-                        3 => "triangle".to_string(),
                         n => format!("polygon with {n} vertices"),
                     };
                     return Err(IoError::NonQuad { line: line_no, cell: quads.len(), kind });
                 }
                 let defined = points.len();
-                let mut raw = [0i64; 4];
-                for (c, w) in corners.iter().take(4).enumerate() {
+                let mut raw = Raw { indices: [0i64; 4], count };
+                for (c, w) in corners.iter().take(count).enumerate() {
                     let head = w.unwrap_or("").split('/').next().unwrap_or("");
-                    raw[c] = parse_i64(tok(head), "a vertex index")?;
+                    raw.indices[c] = parse_i64(tok(head), "a vertex index")?;
                 }
                 let q = match resolve(raw, defined, defined) {
                     Some(q) => q,
@@ -78,7 +78,9 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let n = points.len();
     for (line, qi, defined, raw) in unresolved {
         quads[qi] = resolve(raw, defined, n).ok_or_else(|| {
-            let v = raw.into_iter().find(|&v| resolve([v; 4], defined, n).is_none()).unwrap_or(0);
+            let one = |v| Raw { indices: [v; 4], count: 1 };
+            let v =
+                raw.written().iter().copied().find(|&v| resolve(one(v), defined, n).is_none()).unwrap_or(0);
             IoError::Parse {
                 line,
                 message: format!("vertex index {} is out of range ({n} vertices)", clip(&v.to_string())),
@@ -88,11 +90,24 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     Ok(MeshData::new(points, quads))
 }
 
+/// A face's vertex indices as written: `count` (3 or 4) of them.
+#[derive(Clone, Copy)]
+struct Raw {
+    indices: [i64; 4],
+    count: usize,
+}
+
+impl Raw {
+    fn written(&self) -> &[i64] {
+        &self.indices[..self.count]
+    }
+}
+
 /// The 0-based indices of a face as written (positive: 1-based; negative: relative to the
-/// `defined` vertices before it), if all are below `n`.
-fn resolve(raw: [i64; 4], defined: usize, n: usize) -> Option<[u32; 4]> {
-    let mut q = [0u32; 4];
-    for (c, &v) in raw.iter().enumerate() {
+/// `defined` vertices before it), if all are below `n`; a triangle's fourth is [`NO_VERTEX`].
+fn resolve(raw: Raw, defined: usize, n: usize) -> Option<[u32; 4]> {
+    let mut q = [NO_VERTEX; 4];
+    for (c, &v) in raw.written().iter().enumerate() {
         let index = if v > 0 { v - 1 } else { (defined as i64).checked_add(v)? };
         if v == 0 || index < 0 || index >= n as i64 || index > u32::MAX as i64 {
             return None;
@@ -109,7 +124,11 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         writeln!(w, "v {} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
     }
     for q in &data.quads {
-        writeln!(w, "f {} {} {} {}", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1)?;
+        write!(w, "f")?;
+        for &v in vertices(q) {
+            write!(w, " {}", u64::from(v) + 1)?;
+        }
+        writeln!(w)?;
     }
     Ok(())
 }

@@ -1,8 +1,9 @@
 //! OFF (Object File Format) and its variants with extra per-vertex values (`COFF`, `NOFF`,
-//! `STOFF`, ...). Only 3D, ASCII files; faces must have 4 vertices.
+//! `STOFF`, ...). Only 3D, ASCII files; faces must have 3 or 4 vertices.
 
 use super::lex::{Lexer, parse_f64, parse_usize, try_push, try_vec};
 use super::{IoError, MeshData, Num};
+use crate::face::{NO_VERTEX, vertices};
 use std::io::Write;
 
 /// Reads an OFF text.
@@ -47,21 +48,23 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
         let line = lex.rest_of_line("a face")?;
         let line_no = line[0].line;
         let k = parse_usize(line[0], "the face's vertex count")?;
-        if k != 4 {
-            let kind = match k {
-                3 => "triangle".to_string(),
-                k => format!("polygon with {k} vertices"),
-            };
-            return Err(IoError::NonQuad { line: line_no, cell: face, kind });
-        }
-        if line.len() < 5 {
-            return Err(IoError::Parse {
+        if !(3..=4).contains(&k) {
+            return Err(IoError::NonQuad {
                 line: line_no,
-                message: "a quad face needs 4 vertex indices".into(),
+                cell: face,
+                kind: format!("polygon with {k} vertices"),
             });
         }
-        let mut q = [0u32; 4];
-        for c in 0..4 {
+        if line.len() < 1 + k {
+            let message = if k == 4 {
+                "a quad face needs 4 vertex indices"
+            } else {
+                "a triangle face needs 3 vertex indices"
+            };
+            return Err(IoError::Parse { line: line_no, message: message.into() });
+        }
+        let mut q = [NO_VERTEX; 4];
+        for c in 0..k {
             let v = parse_usize(line[1 + c], "a vertex index")?;
             if v >= nv {
                 return Err(IoError::Parse {
@@ -84,7 +87,11 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
     }
     for q in &data.quads {
-        writeln!(w, "4 {} {} {} {}", q[0], q[1], q[2], q[3])?;
+        write!(w, "{}", vertices(q).len())?;
+        for &v in vertices(q) {
+            write!(w, " {v}")?;
+        }
+        writeln!(w)?;
     }
     Ok(())
 }

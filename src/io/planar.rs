@@ -1,7 +1,7 @@
 //! Planar meshes in 3D space: fitting the plane, rejecting curved meshes, and mapping between
 //! the file's 3D coordinates and the 2D coordinates the optimizer works in.
 //!
-//! - If one coordinate is the same for every vertex used by a quad (the plane z = c, the usual
+//! - If one coordinate is the same for every vertex used by a face (the plane z = c, the usual
 //!   case, or x = c, y = c), the 2D coordinates are the other two coordinates, unchanged, and
 //!   the constant one is kept: nothing is rounded.
 //! - Otherwise the plane is fitted by least squares (centroid and the covariance matrix's
@@ -25,7 +25,7 @@ use crate::power_of_two::{binary_exponent, scale_by_power_of_two};
 use glam::{DVec2, DVec3};
 
 /// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
-/// vertices used by quads.
+/// vertices used by faces.
 pub const PLANARITY_TOLERANCE: f64 = 1e-5;
 
 /// The plane of a mesh and its 2D coordinate frame.
@@ -228,7 +228,7 @@ fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
 /// A file's mesh as the 2D [`QuadMesh`] the optimizer works on, with the frame to map it back.
 #[derive(Clone, Debug)]
 pub struct PlanarMesh {
-    /// The 2D mesh (fixed flags from the file; vertices used by no quad included, they never
+    /// The 2D mesh (fixed flags from the file; vertices used by no face included, they never
     /// move).
     pub mesh: QuadMesh,
     /// The plane and its 2D frame.
@@ -236,18 +236,20 @@ pub struct PlanarMesh {
 }
 
 impl PlanarMesh {
-    /// Fits the plane of `data` (see the module docs) and builds the validated 2D mesh.
+    /// Fits the plane of `data` (see the module docs) and builds the validated 2D mesh, its
+    /// triangles included ([`QuadMesh::with_faces`]).
     pub fn new(data: &MeshData) -> Result<PlanarMesh, IoError> {
         data.check()?;
         let mut used = vec![false; data.points.len()];
         for q in &data.quads {
-            for &v in q {
+            for &v in crate::face::vertices(q) {
                 used[v as usize] = true;
             }
         }
         let frame = PlanarFrame::fit(&data.points, Some(&used))?;
         let points: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
-        let mesh = QuadMesh::new(points, data.quads.clone(), data.fixed.clone())?;
+        // Triangles are kept (a mesh without any is the one `QuadMesh::new` builds).
+        let mesh = QuadMesh::with_faces(points, data.quads.clone(), data.fixed.clone())?;
         Ok(PlanarMesh { mesh, frame })
     }
 
@@ -266,7 +268,7 @@ impl PlanarMesh {
 
     /// Writes the optimized positions back into `data` (the mesh this was built from) and
     /// returns how many vertices moved: moved vertices get their point of the plane, every
-    /// other vertex keeps its original coordinates bit for bit; the quads become
+    /// other vertex keeps its original coordinates bit for bit; the faces become
     /// [`QuadMesh::quads_as_given`] (consistently oriented, in the handedness of the input),
     /// so `data.quads` need not be kept meanwhile.
     pub fn write_back(&self, data: &mut MeshData) -> usize {

@@ -1,24 +1,32 @@
-//! Legacy VTK, ASCII: `UNSTRUCTURED_GRID` with quad cells or `POLYDATA` with 4-vertex
-//! polygons, and a point-data array `fixed` (see the module docs of [`crate::io`]).
+//! Legacy VTK, ASCII: `UNSTRUCTURED_GRID` with triangle and quad cells or `POLYDATA` with 3-
+//! and 4-vertex polygons, and a point-data array `fixed` (see the module docs of [`crate::io`]).
 
 use super::lex::{Lexer, Tok, clip, parse_usize, try_push, try_vec};
 use super::{IoError, MeshData, Num};
+use crate::face::{NO_VERTEX, corner_count, is_triangle, vertices};
 use std::io::Write;
 
+/// VTK's cell type number of a triangle.
+const VTK_TRIANGLE: usize = 5;
+/// VTK's cell type number of a polygon.
+const VTK_POLYGON: usize = 7;
 /// VTK's cell type number of a quad.
 const VTK_QUAD: usize = 9;
 
-/// Cells as read, kept as quads: of a cell with another number of points only the first is
-/// remembered (for the error), and of the point indices only the first out of range.
+/// Cells as read, kept as faces (quads, and triangles with [`NO_VERTEX`] fourth): of a cell
+/// with another number of points only the first is remembered (for the error), and of the
+/// point indices only the first out of range.
 #[derive(Default)]
 struct Cells {
     /// Number of cells.
     count: usize,
-    /// The cells of 4 points.
+    /// The cells of 3 or 4 points (one per cell up to the first other cell).
     quads: Vec<[u32; 4]>,
+    /// The line of each of `quads`.
+    lines: Vec<usize>,
     /// Line of the first cell.
     first_line: Option<usize>,
-    /// The first cell not of 4 points: (cell, its point count, line).
+    /// The first cell not of 3 or 4 points: (cell, its point count, line).
     other: Option<(usize, usize, usize)>,
     /// The first point index out of range: (cell, index, line). With no points read yet,
     /// the largest index, checked at the end.
@@ -40,25 +48,46 @@ impl Cells {
         u32::try_from(v).unwrap_or(u32::MAX)
     }
 
-    /// Files a cell of `k` points (`k == 4`: `q` holds them).
+    /// Files a cell of `k` points (`k` is 3 or 4: `q` holds them).
     fn cell(&mut self, k: usize, q: [u32; 4], line: usize) -> Result<(), IoError> {
         self.first_line.get_or_insert(line);
-        if k == 4 {
-            try_push(&mut self.quads, q, "quads")?;
+        if k == 3 || k == 4 {
+            self.face(k, q, line)?;
         } else if self.other.is_none() {
             self.other = Some((self.count, k, line));
         }
         self.count += 1;
         Ok(())
     }
+
+    /// Keeps the face of a cell of `k` (3 or 4) points, the first `k` of `q`.
+    fn face(&mut self, k: usize, mut q: [u32; 4], line: usize) -> Result<(), IoError> {
+        if k == 3 {
+            q[3] = NO_VERTEX;
+        }
+        try_push(&mut self.quads, q, "quads")?;
+        try_push(&mut self.lines, line, "quads")
+    }
+
+    /// The number of points of cell `i`, when known.
+    fn point_count(&self, i: usize) -> Option<usize> {
+        match self.other {
+            Some((j, k, _)) if j == i => Some(k),
+            Some((j, ..)) if j < i => None,
+            _ => self.quads.get(i).map(corner_count),
+        }
+    }
 }
 
-/// Cell types as read: only their count and the first that is not a quad.
+/// Cell types as read: their count, the types of triangles and quads, and the first that is
+/// neither.
 struct Types {
     count: usize,
+    /// Per cell: its type if a triangle or a quad, else 0.
+    kinds: Vec<u8>,
     /// Line of the first type.
     first_line: Option<usize>,
-    /// The first type that is not a quad: (cell, type, line).
+    /// The first type that is neither a triangle nor a quad: (cell, type, line).
     other: Option<(usize, usize, usize)>,
 }
 
@@ -146,14 +175,17 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             }
             "CELL_TYPES" if !polydata => {
                 let n = lex.usize("the cell type count")?;
-                let mut t = Types { count: n, first_line: None, other: None };
+                let kinds = try_vec(n.min(lex.max_tokens()), "cell types")?;
+                let mut t = Types { count: n, kinds, first_line: None, other: None };
                 for i in 0..n {
                     let tok = lex.next("a cell type")?;
                     let ty = parse_usize(tok, "a cell type")?;
                     t.first_line.get_or_insert(tok.line);
-                    if ty != VTK_QUAD && t.other.is_none() {
+                    let known = ty == VTK_QUAD || ty == VTK_TRIANGLE;
+                    if !known && t.other.is_none() {
                         t.other = Some((i, ty, tok.line));
                     }
+                    try_push(&mut t.kinds, if known { ty as u8 } else { 0 }, "cell types")?;
                 }
                 types = Some(t);
             }
@@ -237,6 +269,9 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     let n = points.len();
     let what = if polydata { "POLYGONS" } else { "CELLS" };
     let cells = cells.ok_or_else(|| lex.error(format!("the file has no {what} section")))?;
+    // The first cell whose point count is wrong: not 3 or 4, or not its type's.
+    let mut wrong = cells.other;
+    let mut kinds = Vec::new();
     if !polydata {
         let types = types.ok_or_else(|| lex.error("the file has no CELL_TYPES section"))?;
         if types.count != cells.count {
@@ -246,26 +281,33 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
             });
         }
         if let Some((i, ty, line)) = types.other {
-            return Err(IoError::NonQuad {
-                line,
-                cell: i,
-                kind: format!("{} (VTK type {ty})", type_name(ty)),
-            });
+            let mut kind = format!("{} (VTK type {ty})", type_name(ty));
+            if let (VTK_POLYGON, Some(k)) = (ty, cells.point_count(i)) {
+                kind = format!("{kind} with {k} vertices");
+            }
+            return Err(IoError::NonQuad { line, cell: i, kind });
         }
+        let before = cells.other.map_or(cells.quads.len(), |(i, ..)| i).min(cells.quads.len());
+        let expected = |i: usize| if usize::from(types.kinds[i]) == VTK_TRIANGLE { 3 } else { 4 };
+        if let Some(i) = (0..before).find(|&i| corner_count(&cells.quads[i]) != expected(i)) {
+            wrong = Some((i, corner_count(&cells.quads[i]), cells.lines[i]));
+        }
+        kinds = types.kinds;
     }
-    // The first problem cell: one not of 4 points, or one referring to a missing point.
+    // The first problem cell: one with a wrong point count, or one referring to a missing point.
     let bad_index = cells.bad_index.filter(|&(_, v, _)| v >= n);
-    let other_first = match (cells.other, bad_index) {
+    let other_first = match (wrong, bad_index) {
         (Some((a, ..)), Some((b, ..))) => a <= b,
         (other, _) => other.is_some(),
     };
-    if let (true, Some((i, k, line))) = (other_first, cells.other) {
+    if let (true, Some((i, k, line))) = (other_first, wrong) {
         if polydata {
             return Err(IoError::NonQuad { line, cell: i, kind: format!("polygon with {k} vertices") });
         }
+        let kind = if usize::from(kinds[i]) == VTK_TRIANGLE { "triangle" } else { "quad" };
         return Err(IoError::Parse {
             line,
-            message: format!("quad cell {i} has {k} vertices (cell numbers are 0-based)"),
+            message: format!("{kind} cell {i} has {k} vertices (cell numbers are 0-based)"),
         });
     }
     if let Some((i, v, line)) = bad_index {
@@ -356,6 +398,8 @@ fn read_cells(lex: &mut Lexer<'_>, points: Option<usize>) -> Result<Cells, IoErr
         data_type(lex)?;
         let cell_count = n.saturating_sub(1);
         cells.quads = try_vec(cell_count.min(lex.max_tokens()), "quads")?;
+        // Per cell: where it ends, and the line of that offset.
+        let mut ends: Vec<(usize, usize)> = try_vec(cell_count.min(lex.max_tokens()), "offsets")?;
         let mut previous: Option<usize> = None;
         for i in 0..n {
             let t = lex.next("an offset")?;
@@ -366,9 +410,10 @@ fn read_cells(lex: &mut Lexer<'_>, points: Option<usize>) -> Result<Cells, IoErr
             // Cell i - 1 starts at the previous offset; its line is that offset's.
             if let Some(p) = previous {
                 cells.first_line.get_or_insert(t.line);
-                if o - p != 4 && cells.other.is_none() {
+                if !(3..=4).contains(&(o - p)) && cells.other.is_none() {
                     cells.other = Some((i - 1, o - p, t.line));
                 }
+                try_push(&mut ends, (o, t.line), "offsets")?;
                 cells.count += 1;
             }
             previous = Some(o);
@@ -378,13 +423,25 @@ fn read_cells(lex: &mut Lexer<'_>, points: Option<usize>) -> Result<Cells, IoErr
         }
         data_type(lex)?;
         let mut q = [0u32; 4];
+        // The cell the index at `k` belongs to (`ends.len()` past the last offset), and where
+        // it starts.
+        let (mut cell, mut start) = (0, 0);
         for k in 0..size {
             let t = lex.next("a point index")?;
             let v = parse_usize(t, "a point index")?;
-            // Grouped by 4: only read as quads when every cell has 4 points.
-            q[k % 4] = cells.index(v, k / 4, t.line, points);
-            if k % 4 == 3 && cells.other.is_none() {
-                try_push(&mut cells.quads, q, "quads")?;
+            while ends.get(cell).is_some_and(|&(end, _)| end <= k) {
+                start = ends[cell].0;
+                cell += 1;
+            }
+            let index = cells.index(v, cell, t.line, points);
+            if let Some(c) = q.get_mut(k - start) {
+                *c = index;
+            }
+            // A cell of 3 or 4 points is complete at its last index.
+            if let Some(&(end, line)) = ends.get(cell).filter(|&&(end, _)| end == k + 1) {
+                if (3..=4).contains(&(end - start)) {
+                    cells.face(end - start, q, line)?;
+                }
             }
         }
         if previous.is_some_and(|o| o != size) {
@@ -447,14 +504,19 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
     }
     let m = data.quads.len();
-    writeln!(w, "{} {m} {}", if data.vtk_polydata { "POLYGONS" } else { "CELLS" }, 5 * m)?;
+    let size: usize = data.quads.iter().map(|q| 1 + corner_count(q)).sum();
+    writeln!(w, "{} {m} {size}", if data.vtk_polydata { "POLYGONS" } else { "CELLS" })?;
     for q in &data.quads {
-        writeln!(w, "4 {} {} {} {}", q[0], q[1], q[2], q[3])?;
+        write!(w, "{}", corner_count(q))?;
+        for &v in vertices(q) {
+            write!(w, " {v}")?;
+        }
+        writeln!(w)?;
     }
     if !data.vtk_polydata {
         writeln!(w, "CELL_TYPES {m}")?;
-        for _ in 0..m {
-            writeln!(w, "{VTK_QUAD}")?;
+        for q in &data.quads {
+            writeln!(w, "{}", if is_triangle(q) { VTK_TRIANGLE } else { VTK_QUAD })?;
         }
     }
     if let Some(quality) = &data.quality {

@@ -45,5 +45,5 @@ pub fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> Qua
             .fold(f64::INFINITY, f64::min);
         *point = p + amount * h * DVec2::new(rng.next(), rng.next());
     }
-    QuadMesh::new(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
+    QuadMesh::with_faces(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
 }

@@ -11,7 +11,8 @@
 //! arbitrary bytes give an error, never a panic or a huge allocation.
 
 use super::groups::{Groups, low_dimension};
-use super::{Elements, MSH_QUAD, NodeTags, physical_name};
+use super::{Elements, MSH_QUAD, MSH_TRIANGLE, NodeTags, blocks, physical_name};
+use crate::face::vertices;
 use crate::io::lex::{clip, try_push, try_vec};
 use crate::io::{Encoding, IoError, MeshData, MshVersion};
 use std::io::Write;
@@ -193,12 +194,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
     if !have_nodes {
         return Err(bad("the file has no $Nodes section"));
     }
-    let Some(Elements { mut quads, raw }) = elements else {
+    let Some(elements) = elements else {
         return Err(bad("the file has no $Elements section"));
     };
-    for (line, element, q) in raw {
-        try_push(&mut quads, super::resolve(&tags, line, element, q)?, "quads")?;
-    }
+    let quads = elements.finish(&tags)?;
     let physical_groups = groups.finish(&tags)?;
     Ok(MeshData {
         points,
@@ -285,9 +284,10 @@ fn read_nodes(c: &mut Cursor<'_>, points: &mut Vec<[f64; 3]>, tags: &mut NodeTag
     Ok(())
 }
 
-/// The node count of an element type this reader meets: quads, points and lines.
+/// The node count of an element type this reader meets: triangles, quads, points and lines.
 fn nodes_of(element_type: i32) -> Option<usize> {
     Some(match element_type {
+        2 => 3,
         3 => 4,
         15 => 1,
         1 => 2,
@@ -316,7 +316,8 @@ fn read_elements(
         let ty = c.int("the element type")?;
         let Some(k) = nodes_of(ty) else {
             return Err(IoError::Unsupported(format!(
-                "element {index} has Gmsh element type {ty}; only quads (type 3), points and lines are read \
+                "element {index} has Gmsh element type {ty}; only triangles (type 2), quads (type 3), points and \
+                 lines are read \
                  (element numbers are 0-based)"
             )));
         };
@@ -330,9 +331,9 @@ fn read_elements(
             }
             if let Some(dim) = low {
                 groups.element_of_entity(dim, entity, &nodes[..k])?;
-            } else if ty as usize == MSH_QUAD {
+            } else if ty as usize == MSH_QUAD || ty as usize == MSH_TRIANGLE {
                 // Line numbers mean nothing here: 0.
-                elements.push(tags, 0, index, [nodes[0], nodes[1], nodes[2], nodes[3]])?;
+                elements.push(tags, 0, index, &nodes[..k])?;
             }
             index += 1;
         }
@@ -398,7 +399,8 @@ fn read_view(
     Ok(flags)
 }
 
-/// Writes binary MSH 4.1, little-endian: one surface entity with every node and quad, and
+/// Writes binary MSH 4.1, little-endian: one surface entity with every node and face (one
+/// element block per run of faces of one type, as [`blocks`]), and
 /// the views of [`super::write_views`] with binary entries.
 pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     let (n, m) = (data.points.len(), data.quads.len());
@@ -425,21 +427,24 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     }
     w.write_all(&buf)?;
     w.write_all(b"\n$EndNodes\n$Elements\n")?;
-    for v in [1, m, m.min(1), m] {
+    let blocks = blocks(&data.quads);
+    for v in [blocks.len(), m, m.min(1), m] {
         size(w, v)?;
     }
-    for v in [2, 1, MSH_QUAD as i32] {
-        int(w, v)?;
-    }
-    size(w, m)?;
-    buf.clear();
-    for (i, q) in data.quads.iter().enumerate() {
-        buf.extend_from_slice(&(i as u64 + 1).to_le_bytes());
-        for &v in q {
-            buf.extend_from_slice(&(u64::from(v) + 1).to_le_bytes());
+    for (ty, range) in blocks {
+        for v in [2, 1, ty as i32] {
+            int(w, v)?;
         }
+        size(w, range.len())?;
+        buf.clear();
+        for i in range {
+            buf.extend_from_slice(&(i as u64 + 1).to_le_bytes());
+            for &v in vertices(&data.quads[i]) {
+                buf.extend_from_slice(&(u64::from(v) + 1).to_le_bytes());
+            }
+        }
+        w.write_all(&buf)?;
     }
-    w.write_all(&buf)?;
     w.write_all(b"\n$EndElements\n")?;
     let header = |w: &mut dyn Write, section: &str, name: &str, count: usize| {
         // As the ASCII views: the name, the time, then step, components and entity count.

@@ -6,12 +6,37 @@ mod groups;
 
 use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize, try_push, try_vec};
 use super::{Encoding, IoError, MeshData, MshVersion, Num};
+use crate::face::{NO_VERTEX, is_triangle, vertices};
 use groups::Groups;
 use std::collections::HashMap;
 use std::io::Write;
+use std::ops::Range;
 
+/// Gmsh's element type number of a 3-node triangle.
+const MSH_TRIANGLE: usize = 2;
 /// Gmsh's element type number of a 4-node quad.
 const MSH_QUAD: usize = 3;
+
+/// The element type of a face.
+fn element_type(face: &[u32; 4]) -> usize {
+    if is_triangle(face) { MSH_TRIANGLE } else { MSH_QUAD }
+}
+
+/// The faces as MSH 4.1 element blocks: each run of faces of one type, in order, so the
+/// elements keep the faces' order and numbers (one empty quad block for no faces).
+fn blocks(faces: &[[u32; 4]]) -> Vec<(usize, Range<usize>)> {
+    let mut out: Vec<(usize, Range<usize>)> = Vec::new();
+    for (i, f) in faces.iter().enumerate() {
+        match out.last_mut() {
+            Some((ty, r)) if *ty == element_type(f) => r.end = i + 1,
+            _ => out.push((element_type(f), i..i + 1)),
+        }
+    }
+    if out.is_empty() {
+        out.push((MSH_QUAD, 0..0));
+    }
+    out
+}
 
 /// Node tags to point indices. The tags 1, 2, 3, ... in order (what Gmsh and the writer
 /// here produce) need no map; any other tag goes to a hash map.
@@ -46,34 +71,50 @@ impl NodeTags {
     }
 }
 
-/// Quads as read: resolved at once when the nodes are known (they come first in every file
-/// Gmsh writes), else kept by node tag until the end.
+/// Faces (quads and triangles) as read: resolved at once when the nodes are known (they come
+/// first in every file Gmsh writes), else kept by node tag until the end.
 #[derive(Default)]
 struct Elements {
     quads: Vec<[u32; 4]>,
-    /// (line, element index, node tags) of the quads read before the nodes.
-    raw: Vec<(usize, usize, [u64; 4])>,
+    /// (line, element index, node tags, node count) of the faces read before the nodes.
+    raw: Vec<(usize, usize, [u64; 4], usize)>,
 }
 
 impl Elements {
-    /// Files quad `element`, resolving its nodes now if `tags` (the nodes read) is given.
+    /// Files face `element` (3 or 4 node tags), resolving its nodes now if `tags` (the nodes
+    /// read) is given.
     fn push(
         &mut self,
         tags: Option<&NodeTags>,
         line: usize,
         element: usize,
-        q: [u64; 4],
+        nodes: &[u64],
     ) -> Result<(), IoError> {
         match tags {
-            Some(tags) => try_push(&mut self.quads, resolve(tags, line, element, q)?, "quads"),
-            None => try_push(&mut self.raw, (line, element, q), "quads"),
+            Some(tags) => try_push(&mut self.quads, resolve(tags, line, element, nodes)?, "quads"),
+            None => {
+                let mut q = [0u64; 4];
+                let k = nodes.len().min(4);
+                q[..k].copy_from_slice(&nodes[..k]);
+                try_push(&mut self.raw, (line, element, q, k), "quads")
+            }
         }
+    }
+
+    /// The faces, in the file's order, once the nodes are known.
+    fn finish(self, tags: &NodeTags) -> Result<Vec<[u32; 4]>, IoError> {
+        let Elements { mut quads, raw } = self;
+        for (line, element, q, k) in raw {
+            try_push(&mut quads, resolve(tags, line, element, &q[..k])?, "quads")?;
+        }
+        Ok(quads)
     }
 }
 
-fn resolve(tags: &NodeTags, line: usize, element: usize, q: [u64; 4]) -> Result<[u32; 4], IoError> {
-    let mut out = [0u32; 4];
-    for c in 0..4 {
+/// The face of an element's 3 or 4 node tags (a triangle's fourth is [`NO_VERTEX`]).
+fn resolve(tags: &NodeTags, line: usize, element: usize, q: &[u64]) -> Result<[u32; 4], IoError> {
+    let mut out = [NO_VERTEX; 4];
+    for c in 0..q.len().min(4) {
         out[c] = tags.get(q[c]).ok_or_else(|| IoError::Parse {
             line,
             message: format!(
@@ -177,12 +218,10 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
     if !have_nodes {
         return Err(lex.error("the file has no $Nodes section"));
     }
-    let Some(Elements { mut quads, raw, .. }) = elements else {
+    let Some(elements) = elements else {
         return Err(lex.error("the file has no $Elements section"));
     };
-    for (line, element, q) in raw {
-        try_push(&mut quads, resolve(&tags, line, element, q)?, "quads")?;
-    }
+    let quads = elements.finish(&tags)?;
     let physical_groups = groups.finish(&tags)?;
     Ok(MeshData {
         points,
@@ -338,7 +377,8 @@ fn read_nodes_v4(
     Ok(())
 }
 
-/// Files an element: quads are kept, points and lines skipped, anything else is an error.
+/// Files an element: triangles and quads are kept, points and lines skipped, anything else is
+/// an error.
 fn element(
     line: usize,
     index: usize,
@@ -348,27 +388,28 @@ fn element(
     elements: &mut Elements,
 ) -> Result<(), IoError> {
     match ty {
-        MSH_QUAD => {
-            if nodes.len() != 4 {
+        MSH_TRIANGLE | MSH_QUAD => {
+            let (k, kind) = if ty == MSH_QUAD { (4, "quad") } else { (3, "triangle") };
+            if nodes.len() != k {
                 return Err(IoError::Parse {
                     line,
                     message: format!(
-                        "quad element {index} has {} nodes (element numbers are 0-based)",
+                        "{kind} element {index} has {} nodes (element numbers are 0-based)",
                         nodes.len()
                     ),
                 });
             }
             let mut q = [0u64; 4];
-            for c in 0..4 {
+            for c in 0..k {
                 q[c] = tag(nodes[c], "a node tag")?;
             }
-            elements.push(tags, line, index, q)
+            elements.push(tags, line, index, &q[..k])
         }
         // Point, and lines of order 1 to 5: corners and boundary curves.
         15 | 1 | 8 | 26 | 27 | 28 => Ok(()),
         _ => {
             let kind = match ty {
-                2 | 9 | 20..=25 => "triangle",
+                9 | 20..=25 => "higher-order triangle",
                 10 | 16 => "higher-order quad",
                 4 | 11 | 29..=31 => "tetrahedron",
                 5 | 12 | 17 | 92 | 93 => "hexahedron",
@@ -468,15 +509,8 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
             }
             writeln!(w, "$EndNodes\n$Elements\n{m}")?;
             for (i, q) in data.quads.iter().enumerate() {
-                writeln!(
-                    w,
-                    "{} {MSH_QUAD} 2 0 1 {} {} {} {}",
-                    i + 1,
-                    q[0] + 1,
-                    q[1] + 1,
-                    q[2] + 1,
-                    q[3] + 1
-                )?;
+                write!(w, "{} {} 2 0 1", i + 1, element_type(q))?;
+                write_nodes(w, q)?;
             }
             writeln!(w, "$EndElements")?;
         }
@@ -490,14 +524,27 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
             for p in &data.points {
                 writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
             }
-            writeln!(w, "$EndNodes\n$Elements\n1 {m} {} {m}\n2 1 {MSH_QUAD} {m}", m.min(1))?;
-            for (i, q) in data.quads.iter().enumerate() {
-                writeln!(w, "{} {} {} {} {}", i + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1)?;
+            let blocks = blocks(&data.quads);
+            writeln!(w, "$EndNodes\n$Elements\n{} {m} {} {m}", blocks.len(), m.min(1))?;
+            for (ty, range) in blocks {
+                writeln!(w, "2 1 {ty} {}", range.len())?;
+                for i in range {
+                    write!(w, "{}", i + 1)?;
+                    write_nodes(w, &data.quads[i])?;
+                }
             }
             writeln!(w, "$EndElements")?;
         }
     }
     write_views(w, data)
+}
+
+/// The 1-based node tags of a face, each after a space, and the end of the line.
+fn write_nodes(w: &mut dyn Write, face: &[u32; 4]) -> std::io::Result<()> {
+    for &v in vertices(face) {
+        write!(w, " {}", u64::from(v) + 1)?;
+    }
+    writeln!(w)
 }
 
 /// A `$NodeData` view after its keyword: the flags (nonzero = set) if the view is named

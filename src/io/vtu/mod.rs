@@ -1,4 +1,5 @@
-//! VTK XML UnstructuredGrid (`.vtu`), ParaView's own format: quads (cell type 9), the point
+//! VTK XML UnstructuredGrid (`.vtu`), ParaView's own format: triangles and quads (cell types 5
+//! and 9), the point
 //! data array `fixed` read as the fixed flags, and the arrays of [`MeshData`] written.
 //!
 //! Read: data arrays in `ascii`, inline `binary` (base64) and `appended` (raw or base64)
@@ -29,11 +30,23 @@ pub(super) use write::write;
 
 use super::lex::try_vec;
 use super::{IoError, MeshData};
+use crate::face::NO_VERTEX;
 use decode::Decoder;
 use xml::{Document, Section};
 
+/// VTK's cell type of a triangle.
+const VTK_TRIANGLE: i64 = 5;
 /// VTK's cell type of a quad.
 const VTK_QUAD: i64 = 9;
+
+/// The number of points of a cell of VTK type `ty`, if it is a triangle or a quad.
+fn corners_of(ty: i64) -> Option<usize> {
+    match ty {
+        VTK_TRIANGLE => Some(3),
+        VTK_QUAD => Some(4),
+        _ => None,
+    }
+}
 
 fn bad(message: impl Into<String>) -> IoError {
     IoError::Malformed(message.into())
@@ -67,25 +80,35 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
     let ints = |ctx: &mut Decoder<'_>, i: usize, count: usize| ctx.ints(&arrays[i].1, count);
     let types = ints(&mut ctx, ti, m)?;
     let offsets = ints(&mut ctx, oi, m)?;
-    let connectivity = ints(&mut ctx, ci, m.checked_mul(4).ok_or_else(|| bad("too many cells"))?)?;
-    let mut quads = try_vec(m, "quads")?;
+    // Every cell's type and extent first, so the connectivity is decoded at the size they call
+    // for (at most 4 per cell).
     let mut start = 0i64;
     for c in 0..m {
-        if types[c] != VTK_QUAD {
+        let Some(corners) = corners_of(types[c]) else {
+            let points = offsets[c].checked_sub(start).filter(|&k| k >= 0 && types[c] == 7);
+            let with = points.map_or(String::new(), |k| format!(" (polygon) with {k} vertices"));
             return Err(IoError::Unsupported(format!(
-                "cell {c} is of VTK type {}; only quads (type 9) are read (cell numbers are 0-based)",
+                "cell {c} is of VTK type {}{with}; only triangles (type 5) and quads (type 9) are read \
+                 (cell numbers are 0-based)",
                 types[c]
             )));
-        }
-        if offsets[c] != start + 4 {
+        };
+        if offsets[c] != start + corners as i64 {
+            let kind = if corners == 3 { "a triangle has 3 vertices" } else { "a quad has 4 vertices" };
             return Err(bad(format!(
-                "offsets: cell {c} ends at {} after starting at {start} (a quad has 4 vertices; cell numbers are 0-based)",
+                "offsets: cell {c} ends at {} after starting at {start} ({kind}; cell numbers are 0-based)",
                 offsets[c]
             )));
         }
-        let s = start as usize;
-        let mut q = [0u32; 4];
-        for (k, slot) in q.iter_mut().enumerate() {
+        start = offsets[c];
+    }
+    let connectivity = ints(&mut ctx, ci, start as usize)?;
+    let mut quads = try_vec(m, "quads")?;
+    let mut s = 0;
+    for (c, &ty) in types.iter().enumerate() {
+        let corners = corners_of(ty).unwrap_or(4);
+        let mut q = [NO_VERTEX; 4];
+        for (k, slot) in q.iter_mut().take(corners).enumerate() {
             let v = connectivity[s + k];
             let out_of_range = IoError::Mesh(crate::Error::IndexOutOfRange {
                 quad: c,
@@ -96,7 +119,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<MeshData, IoError> {
             *slot = u32::try_from(v).ok().filter(|&v| (v as usize) < n).ok_or(out_of_range)?;
         }
         quads.push(q);
-        start += 4;
+        s += corners;
     }
     let fixed = match find(Section::PointData, Some("fixed")) {
         Some(i) if arrays[i].1.components == 1 => {

@@ -2,7 +2,8 @@
 //! little-endian with UInt64 headers, in [`MeshData::encoding`], zlib-compressed in blocks of
 //! 32 KiB when [`MeshData::compressed`].
 
-use super::VTK_QUAD;
+use super::{VTK_QUAD, VTK_TRIANGLE};
+use crate::face::{is_triangle, vertices};
 use crate::io::{Encoding, MeshData, Num};
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
@@ -117,14 +118,31 @@ pub(in crate::io) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Resul
         components: 3,
         values: Values::F64(data.points.iter().flatten().copied().collect()),
     }];
+    let offsets = data
+        .quads
+        .iter()
+        .scan(0i64, |end, q| {
+            *end += vertices(q).len() as i64;
+            Some(*end)
+        })
+        .collect();
     let cells = vec![
         Out {
             name: "connectivity",
             components: 1,
-            values: Values::I64(data.quads.iter().flatten().map(|&v| i64::from(v)).collect()),
+            values: Values::I64(data.quads.iter().flat_map(vertices).map(|&v| i64::from(v)).collect()),
         },
-        Out { name: "offsets", components: 1, values: Values::I64((1..=m).map(|c| 4 * c as i64).collect()) },
-        Out { name: "types", components: 1, values: Values::U8(vec![VTK_QUAD as u8; m]) },
+        Out { name: "offsets", components: 1, values: Values::I64(offsets) },
+        Out {
+            name: "types",
+            components: 1,
+            values: Values::U8(
+                data.quads
+                    .iter()
+                    .map(|q| if is_triangle(q) { VTK_TRIANGLE } else { VTK_QUAD } as u8)
+                    .collect(),
+            ),
+        },
     ];
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     let compressor = if compressed { " compressor=\"vtkZLibDataCompressor\"" } else { "" };

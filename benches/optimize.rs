@@ -26,7 +26,7 @@ mod counting_alloc;
 use counting_alloc::peak_of;
 
 /// Prints the working set of a default run (topology included) per vertex.
-fn report_working_set(mesh: &quadopt::QuadMesh) {
+fn report_working_set(mesh: &quadopt::Mesh) {
     let vertices = mesh.points().len();
     let ((), bytes) = peak_of(|| {
         let mut m = mesh.clone();
@@ -42,7 +42,7 @@ fn report_working_set(mesh: &quadopt::QuadMesh) {
     );
 }
 
-fn mesh_bytes(mesh: &quadopt::QuadMesh) -> usize {
+fn mesh_bytes(mesh: &quadopt::Mesh) -> usize {
     size_of_val(mesh.points()) + size_of_val(mesh.fixed()) + size_of_val(mesh.quads())
 }
 

@@ -8,7 +8,7 @@
 use quadopt::Features;
 use quadopt::testing::BoundaryGeometry;
 use quadopt::testing::{LocalSolver, MaxMinSettings, max_min_stage};
-use quadopt::{DVec2, Options, QuadMesh, Topology, io, optimize};
+use quadopt::{DVec2, Mesh, Options, Topology, io, optimize};
 use std::time::Instant;
 
 /// Arclength parameters of `points` on the original loops of `geometry` (the optimized
@@ -115,7 +115,7 @@ fn main() {
                 continue;
             }
         };
-        let mut mesh: QuadMesh = planar.mesh;
+        let mut mesh: Mesh = planar.mesh;
         let original = mesh.points().to_vec();
         let topo = Topology::new(&mesh);
         let options = Options::default();

@@ -2,7 +2,7 @@
 //! whether the boundary may move at all. Recomputed per run from the current positions, so one [`Topology`]
 //! serves many runs.
 
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::topology::{Topology, VertexKind};
 use glam::DVec2;
 
@@ -40,7 +40,7 @@ impl Features {
     /// boundary angle differs from 180 degrees by more than `feature_angle_deg`; at a boundary
     /// vertex with a triangle among its faces, the angle alone decides. Boundary
     /// vertices are movable only when `boundary_moves` (a boundary mode other than fixed).
-    pub fn new(mesh: &QuadMesh, topo: &Topology, feature_angle_deg: f64, boundary_moves: bool) -> Features {
+    pub fn new(mesh: &Mesh, topo: &Topology, feature_angle_deg: f64, boundary_moves: bool) -> Features {
         let n = topo.vertex_count();
         let points = mesh.points();
         let mut corner = vec![false; n];
@@ -102,7 +102,7 @@ impl Features {
 mod tests {
     use super::*;
 
-    fn polygon_patch(angle_deg: f64) -> (QuadMesh, Topology) {
+    fn polygon_patch(angle_deg: f64) -> (Mesh, Topology) {
         // Two quads meeting at boundary vertex 1 with a bend of `angle_deg` at it.
         let t = angle_deg.to_radians();
         let p = vec![
@@ -114,7 +114,7 @@ mod tests {
             DVec2::new(t.cos() + 0.0, t.sin() + 1.0),
         ];
         // Interior above the bottom polyline 0-1-2.
-        let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4]], None).unwrap();
+        let m = Mesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4]], None).unwrap();
         let topo = Topology::new(&m);
         (m, topo)
     }

@@ -8,7 +8,7 @@
 //!
 //! ```
 //! use glam::DVec2;
-//! use quadopt::{optimize, BoundaryMode, Options, QuadMesh};
+//! use quadopt::{optimize, BoundaryMode, Options, Mesh};
 //!
 //! // A 2x2 patch whose centre vertex has been dragged off-centre.
 //! let mut points = Vec::new();
@@ -19,7 +19,7 @@
 //! }
 //! points[4] = DVec2::new(1.6, 1.5);
 //! let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-//! let mut mesh = QuadMesh::new(points, quads, None).unwrap();
+//! let mut mesh = Mesh::new(points, quads, None).unwrap();
 //! let options = Options::default().with_boundary(BoundaryMode::Fixed).with_tau(1e-12);
 //! let report = optimize(&mut mesh, &options).unwrap();
 //! assert!(report.output.min > report.input.min);
@@ -61,7 +61,11 @@ pub(crate) mod topology;
 pub use error::{Error, Result};
 pub use features::Features;
 pub use glam::DVec2;
-pub use mesh::QuadMesh;
+pub use mesh::Mesh;
+
+/// The mesh type's name before it took triangles ([`Mesh`]); kept so code written against it
+/// compiles unchanged.
+pub type QuadMesh = Mesh;
 pub use quality::QualityStats;
 pub use smooth::{
     BoundaryFidelity, BoundaryMode, Effort, MaxMinGain, Method, Optimizer, Options, Progress, Report,

@@ -6,7 +6,7 @@
 //! lie flat in a plane without folds, so no orientation of it makes every quad valid, and the
 //! rule below would have no sign to go by. Orientation is made consistent per connected
 //! component (quads disagreeing with their component's majority are reversed and listed in
-//! [`QuadMesh::reoriented`]); a component whose total signed area is negative is clockwise,
+//! [`Mesh::reoriented`]); a component whose total signed area is negative is clockwise,
 //! which is a valid mesh seen from the other side, not a mesh of inverted quads. Internally every
 //! quad is stored counter-clockwise so quality is always measured against +z.
 //!
@@ -17,11 +17,12 @@ use crate::alloc::{try_copy, try_filled, try_push, try_with_capacity};
 use crate::error::{Error, Result};
 use glam::DVec2;
 
-/// A validated planar quad mesh, or quad-dominant mesh (triangles among the quads, built with
-/// [`QuadMesh::with_faces`]). "Quad" in the names of its methods means "face" where the mesh
-/// has triangles: [`QuadMesh::quads`] and [`QuadMesh::faces`] are the same array.
+/// A validated planar mesh of quads, or of quads and triangles (a quad-dominant mesh, built
+/// with [`Mesh::with_faces`]; faces as in [`crate::face`]). "Quad" in the names of its
+/// methods means "face" where the mesh has triangles: [`Mesh::quads`] and [`Mesh::faces`] are
+/// the same array.
 #[derive(Clone, Debug)]
-pub struct QuadMesh {
+pub struct Mesh {
     points: Vec<DVec2>,
     /// Quads, consistently counter-clockwise (positive total signed area per component).
     quads: Vec<[u32; 4]>,
@@ -36,18 +37,18 @@ pub struct QuadMesh {
 
 use crate::face::{Face, corner_count, reversed};
 
-impl QuadMesh {
+impl Mesh {
     /// Validates and builds a mesh.
     ///
     /// `fixed`, if given, holds one flag per vertex; fixed vertices never move.
     ///
     /// ```
     /// use glam::DVec2;
-    /// use quadopt::QuadMesh;
+    /// use quadopt::Mesh;
     /// let points = vec![DVec2::new(0., 0.), DVec2::new(1., 0.), DVec2::new(1., 1.), DVec2::new(0., 1.)];
-    /// let mesh = QuadMesh::new(points, vec![[0, 1, 2, 3]], None).unwrap();
+    /// let mesh = Mesh::new(points, vec![[0, 1, 2, 3]], None).unwrap();
     /// assert_eq!(mesh.quads().len(), 1);
-    /// assert!(QuadMesh::new(vec![DVec2::ZERO; 3], vec![[0, 1, 2, 3]], None).is_err());
+    /// assert!(Mesh::new(vec![DVec2::ZERO; 3], vec![[0, 1, 2, 3]], None).is_err());
     /// ```
     pub fn new(points: Vec<DVec2>, quads: Vec<[u32; 4]>, fixed: Option<Vec<bool>>) -> Result<Self> {
         Self::build(points, quads, fixed, false)
@@ -55,13 +56,13 @@ impl QuadMesh {
 
     /// Validates and builds a quad-dominant mesh: faces of four vertices or, for a triangle,
     /// three and [`crate::face::NO_VERTEX`] (see [`crate::face`]). A mesh without triangles is
-    /// the mesh [`QuadMesh::new`] builds.
+    /// the mesh [`Mesh::new`] builds.
     ///
     /// ```
     /// use glam::DVec2;
-    /// use quadopt::{QuadMesh, face};
+    /// use quadopt::{Mesh, face};
     /// let points = vec![DVec2::new(0., 0.), DVec2::new(1., 0.), DVec2::new(1., 1.), DVec2::new(0., 1.), DVec2::new(2., 0.5)];
-    /// let mesh = QuadMesh::with_faces(points, vec![[0, 1, 2, 3], face::triangle(1, 4, 2)], None).unwrap();
+    /// let mesh = Mesh::with_faces(points, vec![[0, 1, 2, 3], face::triangle(1, 4, 2)], None).unwrap();
     /// assert_eq!((mesh.faces().len(), mesh.triangle_count()), (2, 1));
     /// ```
     pub fn with_faces(points: Vec<DVec2>, faces: Vec<Face>, fixed: Option<Vec<bool>>) -> Result<Self> {
@@ -87,12 +88,12 @@ impl QuadMesh {
             return Err(Error::NonFiniteCoordinate { vertex: v });
         }
         let Oriented { quads, reoriented, clockwise, boundary_edges } = orient(&points, quads)?;
-        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise, boundary_edges })
+        Ok(Mesh { points, quads, fixed, reoriented, clockwise, boundary_edges })
     }
 
     /// A copy of the mesh, or [`Error::OutOfMemory`] (where `clone` would abort).
-    pub fn try_clone(&self) -> Result<QuadMesh> {
-        Ok(QuadMesh {
+    pub fn try_clone(&self) -> Result<Mesh> {
+        Ok(Mesh {
             points: try_copy(&self.points, "vertex coordinates")?,
             quads: try_copy(&self.quads, "quads")?,
             fixed: try_copy(&self.fixed, "fixed flags")?,
@@ -123,7 +124,7 @@ impl QuadMesh {
         &self.quads
     }
 
-    /// The faces: [`QuadMesh::quads`], named for a quad-dominant mesh.
+    /// The faces: [`Mesh::quads`], named for a quad-dominant mesh.
     pub fn faces(&self) -> &[Face] {
         &self.quads
     }
@@ -171,7 +172,7 @@ impl QuadMesh {
     /// The same mesh numbered differently: its vertex `i` is this mesh's `vertex_of[i]`, its
     /// quad `k` this mesh's `quad_of[k]` (both permutations), each quad with its corners in
     /// the same order.
-    pub(crate) fn renumbered(&self, vertex_of: &[u32], quad_of: &[u32]) -> Result<QuadMesh> {
+    pub(crate) fn renumbered(&self, vertex_of: &[u32], quad_of: &[u32]) -> Result<Mesh> {
         let n = self.points.len();
         if vertex_of.len() != n {
             return Err(Error::VertexCountMismatch { expected: vertex_of.len(), got: n });
@@ -203,7 +204,7 @@ impl QuadMesh {
                 try_push(&mut reoriented, k as u32, "reoriented quads")?;
             }
         }
-        Ok(QuadMesh { points, quads, fixed, reoriented, clockwise, boundary_edges: self.boundary_edges })
+        Ok(Mesh { points, quads, fixed, reoriented, clockwise, boundary_edges: self.boundary_edges })
     }
 
     /// Replaces the vertex positions (same count, all finite).
@@ -223,7 +224,7 @@ impl QuadMesh {
         crate::quality::quad_values(&self.points, &self.quads)
     }
 
-    /// [`QuadMesh::quality_values`], or [`Error::OutOfMemory`].
+    /// [`Mesh::quality_values`], or [`Error::OutOfMemory`].
     pub fn try_quality_values(&self) -> Result<Vec<f64>> {
         let mut values = try_with_capacity(self.quads.len(), "quality values")?;
         values.extend(
@@ -431,37 +432,37 @@ mod tests {
     #[test]
     fn errors_name_the_offending_item() {
         let (p, _) = strip();
-        assert_eq!(QuadMesh::new(p.clone(), vec![], None).unwrap_err(), Error::NoQuads);
+        assert_eq!(Mesh::new(p.clone(), vec![], None).unwrap_err(), Error::NoQuads);
         assert_eq!(
-            QuadMesh::new(p.clone(), vec![[0, 1, 4, 3], [1, 2, 9, 4]], None).unwrap_err(),
+            Mesh::new(p.clone(), vec![[0, 1, 4, 3], [1, 2, 9, 4]], None).unwrap_err(),
             Error::IndexOutOfRange { quad: 1, corner: 2, index: 9, vertex_count: 6 }
         );
         assert_eq!(
-            QuadMesh::new(p.clone(), vec![[0, 1, 1, 3]], None).unwrap_err(),
+            Mesh::new(p.clone(), vec![[0, 1, 1, 3]], None).unwrap_err(),
             Error::RepeatedVertex { quad: 0, vertex: 1 }
         );
         let mut bad = p.clone();
         bad[4].y = f64::NAN;
         assert_eq!(
-            QuadMesh::new(bad, vec![[0, 1, 4, 3]], None).unwrap_err(),
+            Mesh::new(bad, vec![[0, 1, 4, 3]], None).unwrap_err(),
             Error::NonFiniteCoordinate { vertex: 4 }
         );
         assert_eq!(
-            QuadMesh::new(p.clone(), vec![[0, 1, 4, 3]], Some(vec![false; 2])).unwrap_err(),
+            Mesh::new(p.clone(), vec![[0, 1, 4, 3]], Some(vec![false; 2])).unwrap_err(),
             Error::FixedLengthMismatch { expected: 6, got: 2 }
         );
         // Three quads on edge (1, 4).
         let mut p3 = p.clone();
         p3.push(DVec2::new(1.5, 2.0));
         p3.push(DVec2::new(0.5, 2.0));
-        let err = QuadMesh::new(p3, vec![[0, 1, 4, 3], [1, 2, 5, 4], [1, 4, 6, 7]], None).unwrap_err();
+        let err = Mesh::new(p3, vec![[0, 1, 4, 3], [1, 2, 5, 4], [1, 4, 6, 7]], None).unwrap_err();
         assert!(matches!(err, Error::NonManifoldEdge { a: 1, b: 4, count: 3, .. }), "{err:?}");
     }
 
     #[test]
     fn fallible_copies_match_and_boundary_edges_are_counted() {
         let (p, q) = strip();
-        let mesh = QuadMesh::new(p, vec![q[0], reversed(q[1])], None).unwrap();
+        let mesh = Mesh::new(p, vec![q[0], reversed(q[1])], None).unwrap();
         // The 2x1 strip: 7 edges, the middle one shared.
         assert_eq!(mesh.boundary_edge_count(), 6);
         let copy = mesh.try_clone().unwrap();
@@ -487,9 +488,9 @@ mod tests {
         let cube = vec![[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
         let corners: Vec<DVec2> = (0..8).map(|i| DVec2::new(f64::from(i % 4), f64::from(i / 4))).collect();
         let closed = Error::ClosedMesh { quad: 0, whole_mesh: true };
-        assert_eq!(QuadMesh::new(corners, cube, None).unwrap_err(), closed);
+        assert_eq!(Mesh::new(corners, cube, None).unwrap_err(), closed);
         let (p, q) = periodic_grid(6);
-        assert_eq!(QuadMesh::new(p.clone(), q.clone(), None).unwrap_err(), closed);
+        assert_eq!(Mesh::new(p.clone(), q.clone(), None).unwrap_err(), closed);
         assert_eq!(
             closed.to_string(),
             "the mesh is closed (it has no boundary edge): a closed surface cannot lie flat in a plane \
@@ -500,7 +501,7 @@ mod tests {
         let offset = points.len() as u32;
         points.extend(p);
         quads.extend(q.iter().map(|q| q.map(|v| v + offset)));
-        let err = QuadMesh::new(points, quads, None).unwrap_err();
+        let err = Mesh::new(points, quads, None).unwrap_err();
         assert_eq!(err, Error::ClosedMesh { quad: 2, whole_mesh: false });
         assert_eq!(
             err.to_string(),
@@ -510,14 +511,14 @@ mod tests {
         // One quad less, and the grid has a boundary (the hole it leaves).
         let (p, mut q) = periodic_grid(6);
         q.pop();
-        let mesh = QuadMesh::new(p, q, None).unwrap();
+        let mesh = Mesh::new(p, q, None).unwrap();
         assert_eq!(mesh.boundary_edge_count(), 4);
     }
 
     #[test]
     fn mixed_orientation_is_made_consistent_and_reported() {
         let (p, _) = strip();
-        let mesh = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 4, 5, 2]], None).unwrap();
+        let mesh = Mesh::new(p, vec![[0, 1, 4, 3], [1, 4, 5, 2]], None).unwrap();
         assert_eq!(mesh.reoriented(), &[1]);
         assert!(mesh.quality().min > 0.99);
         assert!(!mesh.has_clockwise_component());
@@ -527,7 +528,7 @@ mod tests {
     fn clockwise_mesh_is_valid_and_kept_clockwise_for_output() {
         let (p, q) = strip();
         let cw: Vec<[u32; 4]> = q.iter().map(|&q| reversed(q)).collect();
-        let mesh = QuadMesh::new(p, cw.clone(), None).unwrap();
+        let mesh = Mesh::new(p, cw.clone(), None).unwrap();
         assert!(mesh.reoriented().is_empty());
         assert!(mesh.has_clockwise_component());
         assert_eq!(mesh.quality().inverted, 0);
@@ -545,6 +546,6 @@ mod tests {
         }
         // Vertices 2i (bottom), 2i+1 (top). Quads i: (2i, 2i+2, 2i+3, 2i+1); last quad twisted.
         let quads = vec![[0, 2, 3, 1], [2, 4, 5, 3], [4, 6, 7, 5], [6, 1, 0, 7]];
-        assert!(matches!(QuadMesh::new(p, quads, None), Err(Error::NonOrientable { .. })));
+        assert!(matches!(Mesh::new(p, quads, None), Err(Error::NonOrientable { .. })));
     }
 }

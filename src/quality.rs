@@ -2,7 +2,7 @@
 //!
 //! Verdict measures each quad against its own normal, so a folded but convex quad scores as a
 //! good element. In a planar mesh the reference normal is the mesh's (+z after orientation has
-//! been made consistent and counter-clockwise, see [`crate::QuadMesh`]), so here the corner
+//! been made consistent and counter-clockwise, see [`crate::Mesh`]), so here the corner
 //! value is the *signed* 2D cross product of the two normalized edges at that corner. It equals
 //! Verdict's value for every counter-clockwise quad that is not folded; a corner turning the
 //! wrong way makes the quad inverted (negative) even when the quad is convex.

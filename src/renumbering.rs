@@ -15,7 +15,7 @@
 //! Results are mapped back to the caller's numbering; fixed vertices come back bit for bit.
 
 use crate::error::Result;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use glam::DVec2;
 
 /// Meshes with fewer vertices keep their own order: their arrays fit in a core's cache, and
@@ -63,7 +63,7 @@ pub(crate) struct Renumbering {
 impl Renumbering {
     /// The order for `mesh`, or `None` when it keeps its own (small, see [`MIN_VERTICES`], or
     /// already local).
-    pub fn new(mesh: &QuadMesh) -> Result<Option<Renumbering>> {
+    pub fn new(mesh: &Mesh) -> Result<Option<Renumbering>> {
         let points = mesh.points();
         if points.len() < MIN_VERTICES || already_local(mesh.quads()) {
             return Ok(None);
@@ -106,12 +106,12 @@ impl Renumbering {
 
     /// `mesh` in the internal order (which must be the order of a mesh with its
     /// connectivity).
-    pub fn internal(&self, mesh: &QuadMesh) -> Result<QuadMesh> {
+    pub fn internal(&self, mesh: &Mesh) -> Result<Mesh> {
         mesh.renumbered(&self.vertex_of, &self.quad_of)
     }
 
     /// Writes the positions of `internal` (a mesh in the internal order) into `mesh`.
-    pub fn write_back(&self, internal: &QuadMesh, mesh: &mut QuadMesh) {
+    pub fn write_back(&self, internal: &Mesh, mesh: &mut Mesh) {
         let out = mesh.points_mut();
         for (&v, &p) in self.vertex_of.iter().zip(internal.points()) {
             out[v as usize] = p;

@@ -13,7 +13,7 @@
 use crate::alloc::{try_filled, try_with_capacity};
 use crate::error::{Error, Result};
 use crate::face::{Face, triangle};
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::quality::{corners, scaled_jacobian};
 use glam::DVec2;
 use rand_core::{RngCore, SeedableRng};
@@ -64,7 +64,7 @@ impl Synthetic {
     /// # Panics
     /// Where [`Synthetic::try_generate`] fails: a grid too large for `u32` vertex indices or
     /// for the memory available.
-    pub fn generate(&self) -> QuadMesh {
+    pub fn generate(&self) -> Mesh {
         self.try_generate().unwrap_or_else(|e| panic!("{e}"))
     }
 
@@ -72,9 +72,9 @@ impl Synthetic {
     /// `u32` indices cannot number or for more holes than fit in the grid (see
     /// [`Synthetic::holes`]), or [`Error::OutOfMemory`] for a grid too large for the memory
     /// available (checked before anything of that size is allocated).
-    pub fn try_generate(&self) -> Result<QuadMesh> {
+    pub fn try_generate(&self) -> Result<Mesh> {
         let (points, quads, _) = self.grid()?;
-        QuadMesh::new(points, quads, None)
+        Mesh::new(points, quads, None)
     }
 
     /// Builds a quad-dominant mesh: the mesh of [`Synthetic::try_generate`] (the same
@@ -93,7 +93,7 @@ impl Synthetic {
     /// assert_eq!(mesh.faces().len() - mesh.triangle_count(), 300);
     /// assert_eq!(mesh.points(), s.generate().points());
     /// ```
-    pub fn generate_quad_dominant(&self, triangles: f64) -> Result<QuadMesh> {
+    pub fn generate_quad_dominant(&self, triangles: f64) -> Result<Mesh> {
         if !(0.0..=1.0).contains(&triangles) {
             return Err(Error::InvalidOption {
                 name: "triangles",
@@ -118,7 +118,7 @@ impl Synthetic {
             }
         }
         drop(quads);
-        QuadMesh::with_faces(points, faces, None)
+        Mesh::with_faces(points, faces, None)
     }
 
     /// The grid's vertices and quads (counter-clockwise), and the generator after the jitter.

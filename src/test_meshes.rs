@@ -1,10 +1,10 @@
 //! Meshes for the unit tests.
 
-use crate::QuadMesh;
+use crate::Mesh;
 use glam::DVec2;
 
 /// An `nx` by `ny` grid of unit squares, vertex (i, j) at index j * (nx + 1) + i.
-pub(crate) fn grid(nx: u32, ny: u32) -> QuadMesh {
+pub(crate) fn grid(nx: u32, ny: u32) -> Mesh {
     let mut p = Vec::new();
     for j in 0..=ny {
         for i in 0..=nx {
@@ -18,5 +18,5 @@ pub(crate) fn grid(nx: u32, ny: u32) -> QuadMesh {
             q.push([a, a + 1, a + nx + 2, a + nx + 1]);
         }
     }
-    QuadMesh::new(p, q, None).unwrap()
+    Mesh::new(p, q, None).unwrap()
 }

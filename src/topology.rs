@@ -7,7 +7,7 @@
 use crate::alloc::{out_of_memory, try_copy, try_filled, try_with_capacity};
 use crate::error::{Error, Result};
 use crate::face::{self, NO_VERTEX};
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 
 /// How a vertex sits in the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,7 +22,7 @@ pub enum VertexKind {
     NonManifold,
 }
 
-/// One-rings and boundary loops of a [`QuadMesh`].
+/// One-rings and boundary loops of a [`Mesh`].
 #[derive(Clone, Debug)]
 pub struct Topology {
     kind: Vec<VertexKind>,
@@ -53,14 +53,14 @@ const NONE: u32 = u32::MAX;
 impl Topology {
     /// Builds the connectivity of `mesh`. Panics if memory runs out; [`Topology::try_new`]
     /// returns an error instead.
-    pub fn new(mesh: &QuadMesh) -> Topology {
+    pub fn new(mesh: &Mesh) -> Topology {
         Topology::try_new(mesh).unwrap_or_else(|e| panic!("{e}"))
     }
 
     /// Builds the connectivity of `mesh` in time linear in its size, whatever the number of
     /// quads at a vertex; [`Error::OutOfMemory`] if an array cannot be allocated (or would be
     /// too long for its 32-bit offsets).
-    pub fn try_new(mesh: &QuadMesh) -> Result<Topology> {
+    pub fn try_new(mesh: &Mesh) -> Result<Topology> {
         let n = mesh.points().len();
         let quads = mesh.quads();
         // Longest array: the rings, one entry per wedge plus one per boundary vertex.
@@ -530,7 +530,7 @@ mod tests {
         let g = grid(3, 3);
         let quads: Vec<[u32; 4]> =
             g.quads().iter().enumerate().filter(|(i, _)| *i != 4).map(|(_, q)| *q).collect();
-        let m = QuadMesh::new(g.points().to_vec(), quads, None).unwrap();
+        let m = Mesh::new(g.points().to_vec(), quads, None).unwrap();
         let t = Topology::new(&m);
         assert_eq!(t.loop_count(), 2);
         let mut lens: Vec<usize> = t.boundary_loops().map(|l| l.len()).collect();
@@ -543,7 +543,7 @@ mod tests {
         // Two squares touching at one vertex (2).
         let p = [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (2., 1.), (2., 2.), (1., 2.)];
         let p = p.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
-        let m = QuadMesh::new(p, vec![[0, 1, 2, 3], [2, 4, 5, 6]], None).unwrap();
+        let m = Mesh::new(p, vec![[0, 1, 2, 3], [2, 4, 5, 6]], None).unwrap();
         let t = Topology::new(&m);
         assert_eq!(t.kind(2), VertexKind::NonManifold);
         assert_eq!(t.kind(0), VertexKind::Boundary);

@@ -12,7 +12,7 @@
 //! the smallest in each quad, those corners add up to 360 degrees, so their minimum is at most
 //! 360/n degrees, reached only with all equal; its scaled Jacobian is sin(2 pi / n).
 
-use quadopt::{Optimizer, Options, Progress, QuadMesh, Topology, VertexKind};
+use quadopt::{Mesh, Optimizer, Options, Progress, Topology, VertexKind};
 use std::f64::consts::TAU;
 
 #[path = "common/fans.rs"]
@@ -172,7 +172,7 @@ fn topology_of_an_open_fan_of_200k_quads() {
     let n = 200_000;
     let full = tangled_fan(n, 1.0);
     let quads = full.quads()[..n as usize - 1].to_vec();
-    let mesh = QuadMesh::new(full.points().to_vec(), quads, None).unwrap();
+    let mesh = Mesh::new(full.points().to_vec(), quads, None).unwrap();
     let t = Topology::new(&mesh);
     check_fan_rings(&t, mesh.quads(), n, n - 1);
     assert_eq!(t.loop_count(), 1);
@@ -191,7 +191,7 @@ fn topology_of_two_fans_of_100k_quads_meeting_at_their_centre() {
     let half = (n / 2) as usize;
     let mut quads = full.quads()[..k as usize].to_vec();
     quads.extend_from_slice(&full.quads()[half..half + k as usize]);
-    let mesh = QuadMesh::new(full.points().to_vec(), quads, None).unwrap();
+    let mesh = Mesh::new(full.points().to_vec(), quads, None).unwrap();
     let t = Topology::new(&mesh);
     assert_eq!(t.kind(0), VertexKind::NonManifold);
     assert!(t.ring(0).is_empty());

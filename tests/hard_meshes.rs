@@ -13,7 +13,7 @@ mod common;
 use common::hard::hard_meshes;
 use quadopt::Features;
 use quadopt::Topology;
-use quadopt::{BoundaryMode, DVec2, Options, QuadMesh, QualityStats, optimize};
+use quadopt::{BoundaryMode, DVec2, Mesh, Options, QualityStats, optimize};
 
 /// Distance from `p` to the closed polyline through `loop_points`.
 fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
@@ -28,7 +28,7 @@ fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn check_preserved(name: &str, before: &QuadMesh, after: &QuadMesh, options: &Options) {
+fn check_preserved(name: &str, before: &Mesh, after: &Mesh, options: &Options) {
     let topo = Topology::new(before);
     let features =
         Features::new(before, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
@@ -54,7 +54,7 @@ fn check_preserved(name: &str, before: &QuadMesh, after: &QuadMesh, options: &Op
     }
 }
 
-fn plain_best(mesh: &QuadMesh) -> QualityStats {
+fn plain_best(mesh: &Mesh) -> QualityStats {
     let mut best: Option<QualityStats> = None;
     for boundary in [BoundaryMode::Slide, BoundaryMode::Snap] {
         let mut m = mesh.clone();

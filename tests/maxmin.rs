@@ -10,11 +10,11 @@ use quadopt::Features;
 use quadopt::quality::{corners, scaled_jacobian};
 use quadopt::testing::BoundaryGeometry;
 use quadopt::testing::{LocalSolver, MaxMinReport, MaxMinSettings, max_min_stage};
-use quadopt::{BoundaryMode, DVec2, QuadMesh, Topology};
+use quadopt::{BoundaryMode, DVec2, Mesh, Topology};
 
 /// Runs the stage on `mesh` in `mode` (corners at the default 45 degrees); returns the new
 /// positions and the report.
-fn run(mesh: &QuadMesh, mode: BoundaryMode, settings: &MaxMinSettings) -> (Vec<DVec2>, MaxMinReport) {
+fn run(mesh: &Mesh, mode: BoundaryMode, settings: &MaxMinSettings) -> (Vec<DVec2>, MaxMinReport) {
     let topo = Topology::new(mesh);
     let features = Features::new(mesh, &topo, 45.0, mode != BoundaryMode::Fixed);
     let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);
@@ -53,7 +53,7 @@ fn interior_vertex_reaches_the_centre_of_a_symmetric_star() {
     for solver in [LocalSolver::Grid, LocalSolver::ActiveSet, LocalSolver::GridActiveSet] {
         let (mut p, q) = Grid::new(2, 2).unit();
         p[4] = DVec2::new(1.37, 0.71);
-        let mesh = QuadMesh::new(p, q, None).unwrap();
+        let mesh = Mesh::new(p, q, None).unwrap();
         let settings = MaxMinSettings { solver, ..MaxMinSettings::default() };
         let (points, report) = run(&mesh, BoundaryMode::Fixed, &settings);
         let err = (points[4] - DVec2::new(1.0, 1.0)).length();
@@ -88,7 +88,7 @@ fn interior_vertex_reaches_the_max_min_point_of_an_uneven_star() {
         DVec2::new(4.0, 2.0),
     ];
     let q = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = Mesh::new(p, q, None).unwrap();
     let (points, report) = run(&mesh, BoundaryMode::Fixed, &MaxMinSettings::default());
     assert!((points[4] - DVec2::new(1.0, 1.0)).length() < 1e-6, "{}", points[4]);
     assert!((report.after.min - 1.0).abs() < 1e-10);
@@ -105,7 +105,7 @@ fn boundary_vertex_slides_to_its_optimum_on_a_straight_edge() {
     let (mut p, q) = Grid::new(2, 2).unit();
     p[4] = DVec2::new(1.5, 1.0);
     let fixed = (0..9).map(|v| v != 1).collect();
-    let mesh = QuadMesh::new(p.clone(), q, Some(fixed)).unwrap();
+    let mesh = Mesh::new(p.clone(), q, Some(fixed)).unwrap();
     let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
     assert_eq!(points[1].y, 0.0, "left the straight edge: {}", points[1]);
     assert!((points[1].x - 1.5).abs() < 1e-6, "{}", points[1]);
@@ -119,7 +119,7 @@ fn boundary_vertex_slides_to_its_optimum_on_a_straight_edge() {
 
 /// A jittered nx x ny grid with its straight sides free to slide, some interior vertices
 /// fixed, and the jitter large enough to leave poor quads.
-fn jittered(nx: usize, ny: usize, seed: u64) -> QuadMesh {
+fn jittered(nx: usize, ny: usize, seed: u64) -> Mesh {
     let grid = Grid::new(nx, ny);
     let mut rng = Rng(seed);
     let p = grid.points(|i, j| {
@@ -134,7 +134,7 @@ fn jittered(nx: usize, ny: usize, seed: u64) -> QuadMesh {
         p
     });
     let fixed = grid.per_vertex(|i, j| grid.is_interior(i, j) && (i * 7 + j * 3) % 11 == 0);
-    QuadMesh::new(p, grid.quads(), Some(fixed)).unwrap()
+    Mesh::new(p, grid.quads(), Some(fixed)).unwrap()
 }
 
 #[test]
@@ -180,7 +180,7 @@ fn the_minimum_never_falls_and_fixed_vertices_stay_bit_identical() {
 
 /// A jittered ring of quads between regular 24-gons of radius 1 and 2 (turning 15 degrees
 /// per boundary vertex: no corners); returns the mesh and the boundary rings' vertex ranges.
-fn ring_mesh() -> (QuadMesh, u32, u32) {
+fn ring_mesh() -> (Mesh, u32, u32) {
     let (n, rings) = (24u32, 3u32);
     let mut rng = Rng(42);
     let mut p = Vec::new();
@@ -200,7 +200,7 @@ fn ring_mesh() -> (QuadMesh, u32, u32) {
             q.push([a, b, b + n, a + n]);
         }
     }
-    (QuadMesh::new(p, q, None).unwrap(), n, rings)
+    (Mesh::new(p, q, None).unwrap(), n, rings)
 }
 
 #[test]
@@ -253,7 +253,7 @@ fn a_tangled_star_never_inverts_a_valid_quad() {
     // valid quads stay valid and the minimum does not fall.
     let (mut p, q) = Grid::new(3, 3).unit();
     p[5] = DVec2::new(2.3, 1.2); // vertex (1, 1) pushed beyond its right neighbour's column
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = Mesh::new(p, q, None).unwrap();
     let before = quality(mesh.points(), mesh.quads());
     assert!(before.iter().any(|&v| v <= 0.0), "the setup must be tangled");
     let (points, report) = run(&mesh, BoundaryMode::Fixed, &MaxMinSettings::default());
@@ -308,14 +308,14 @@ fn cancelling_keeps_a_result_no_worse() {
 }
 
 /// An n x n grid of unit squares whose interior vertices are moved by up to `amount` per axis.
-fn jittered_grid(n: usize, amount: f64, seed: u64) -> QuadMesh {
+fn jittered_grid(n: usize, amount: f64, seed: u64) -> Mesh {
     let grid = Grid::square(n);
     let mut rng = Rng(seed);
     let p = grid.points(|i, j| {
         let p = DVec2::new(i as f64, j as f64);
         if grid.is_interior(i, j) { p + DVec2::new(amount * rng.next(), amount * rng.next()) } else { p }
     });
-    QuadMesh::new(p, grid.quads(), None).unwrap()
+    Mesh::new(p, grid.quads(), None).unwrap()
 }
 
 #[test]
@@ -438,7 +438,7 @@ fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
 /// on the jittered grids, on the hard meshes and on the sample meshes.
 #[test]
 fn no_edge_is_squashed_below_its_floor() {
-    let mut meshes: Vec<(String, QuadMesh)> =
+    let mut meshes: Vec<(String, Mesh)> =
         (1..6).map(|s| (format!("jittered {s}"), jittered(9, 7, s))).collect();
     meshes.extend((1..4).map(|s| (format!("jittered grid {s}"), jittered_grid(12, 0.45, s))));
     meshes.extend(common::hard::hard_meshes().into_iter().map(|(n, m)| (n.to_string(), m)));

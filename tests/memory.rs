@@ -6,14 +6,14 @@
 
 use quadopt::ffi::{run_bytes, topology_bytes};
 use quadopt::synthetic::Synthetic;
-use quadopt::{BoundaryMode, Method, Optimizer, Options, QuadMesh};
+use quadopt::{BoundaryMode, Mesh, Method, Optimizer, Options};
 #[path = "common/counting_alloc.rs"]
 mod counting_alloc;
 use counting_alloc::peak_of;
 
 /// A fan of `n` quads around vertex 0, pushed outside it (as in tests/fans.rs): one vertex of
 /// degree `n`, most quads inverted.
-fn tangled_fan(n: u32) -> QuadMesh {
+fn tangled_fan(n: u32) -> Mesh {
     use quadopt::DVec2;
     use std::f64::consts::TAU;
     let mut points = vec![DVec2::new(2.0, 0.3)];
@@ -23,11 +23,11 @@ fn tangled_fan(n: u32) -> QuadMesh {
         points.push(DVec2::new(d.cos(), d.sin()) * 1.5);
     }
     let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
-    QuadMesh::new(points, quads, None).unwrap()
+    Mesh::new(points, quads, None).unwrap()
 }
 
 /// `mesh` with its vertices numbered in a scattered order (sorted by a multiplicative hash).
-fn scattered(mesh: &QuadMesh) -> QuadMesh {
+fn scattered(mesh: &Mesh) -> Mesh {
     let n = mesh.points().len();
     let mut old_of: Vec<u32> = (0..n as u32).collect();
     old_of.sort_by_key(|&v| v.wrapping_mul(2_654_435_761));
@@ -37,12 +37,12 @@ fn scattered(mesh: &QuadMesh) -> QuadMesh {
     }
     let points = old_of.iter().map(|&v| mesh.points()[v as usize]).collect();
     let quads = mesh.quads().iter().map(|q| q.map(|v| new_of[v as usize])).collect();
-    QuadMesh::new(points, quads, None).unwrap()
+    Mesh::new(points, quads, None).unwrap()
 }
 
 /// (name, mesh): a plain grid, a tangled one, one with many holes, a strip whose every vertex
 /// is on the boundary, a tangled fan, a tiny grid and one large enough to be renumbered.
-fn meshes() -> Vec<(&'static str, QuadMesh)> {
+fn meshes() -> Vec<(&'static str, Mesh)> {
     let s = Synthetic { nx: 80, ny: 80, ..Synthetic::default() };
     vec![
         ("grid", s.generate()),

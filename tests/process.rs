@@ -129,7 +129,7 @@ fn a_child_forked_after_use_finishes_its_calls() {
 fn optimize_rust(coords: &[f64], quads: &[u32]) -> Vec<u64> {
     let points = coords.chunks(2).map(|c| glam::DVec2::new(c[0], c[1])).collect();
     let quads = quads.chunks(4).map(|q| [q[0], q[1], q[2], q[3]]).collect();
-    let mut mesh = quadopt::QuadMesh::new(points, quads, None).unwrap();
+    let mut mesh = quadopt::Mesh::new(points, quads, None).unwrap();
     quadopt::optimize(&mut mesh, &quadopt::Options::default()).unwrap();
     mesh.points().iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect()
 }

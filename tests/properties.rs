@@ -30,7 +30,7 @@ use proptest::test_runner::TestCaseError;
 use quadopt::Features;
 use quadopt::io::{self, Encoding, Format, MeshData, MshVersion};
 use quadopt::{
-    BoundaryMode, DVec2, Effort, Error, Method, Optimizer, Options, QuadMesh, Report, StopRule, optimize,
+    BoundaryMode, DVec2, Effort, Error, Mesh, Method, Optimizer, Options, Report, StopRule, optimize,
 };
 use quadopt::{Topology, VertexKind};
 use std::collections::HashMap;
@@ -256,13 +256,13 @@ fn boundary_flags(n: usize, quads: &[[u32; 4]]) -> Vec<bool> {
 }
 
 /// The case's mesh, or the typed error validation gives.
-fn build(case: &Case) -> Result<QuadMesh, Error> {
+fn build(case: &Case) -> Result<Mesh, Error> {
     let (p, q, fixed) = build_arrays(case);
-    QuadMesh::with_faces(p, q, Some(fixed))
+    Mesh::with_faces(p, q, Some(fixed))
 }
 
 /// The case's mesh; cases that do not validate (every cell removed) are rejected.
-fn valid(case: &Case) -> Result<QuadMesh, TestCaseError> {
+fn valid(case: &Case) -> Result<Mesh, TestCaseError> {
     match build(case) {
         Ok(m) => Ok(m),
         Err(Error::NoQuads) => Err(TestCaseError::reject("every cell removed")),
@@ -425,7 +425,7 @@ fn distance_to_loop(p: DVec2, loop_points: &[DVec2]) -> f64 {
 
 /// Fixed, corner, non-manifold, unused and (in `Fixed` mode) boundary vertices did not move
 /// by a single bit; every boundary vertex lies on its original boundary loop.
-fn check_preserved(before: &QuadMesh, after: &QuadMesh, options: &Options) -> Result<(), TestCaseError> {
+fn check_preserved(before: &Mesh, after: &Mesh, options: &Options) -> Result<(), TestCaseError> {
     let topo = Topology::new(before);
     let features =
         Features::new(before, &topo, options.feature_angle_deg, options.boundary != BoundaryMode::Fixed);
@@ -482,7 +482,7 @@ proptest! {
         if wrong_count {
             let (mut p, q, _) = build_arrays(&case);
             p.push(DVec2::ZERO);
-            let mut other = QuadMesh::with_faces(p, q, None).unwrap();
+            let mut other = Mesh::with_faces(p, q, None).unwrap();
             let r = optimizer.run(&mut other, &Options::default(), None);
             prop_assert!(matches!(r, Err(Error::VertexCountMismatch { .. })), "{:?}", r);
         }
@@ -795,7 +795,7 @@ proptest! {
 // ---------------------------------------------------------------------------------------
 
 /// A mesh saved from a property failure (tests/data/fuzz/), with its fixed flags.
-fn saved_mesh(name: &str) -> QuadMesh {
+fn saved_mesh(name: &str) -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz").join(name);
     let data = io::read_mesh(&path).unwrap();
     io::PlanarMesh::new(&data).unwrap().mesh
@@ -803,7 +803,7 @@ fn saved_mesh(name: &str) -> QuadMesh {
 
 /// Per method and boundary mode: (inverted quads in the output, quads valid in the input
 /// but inverted in the output).
-fn new_inversions(mesh: &QuadMesh) -> Vec<(Method, BoundaryMode, usize, usize)> {
+fn new_inversions(mesh: &Mesh) -> Vec<(Method, BoundaryMode, usize, usize)> {
     let before = mesh.quality_values();
     let mut out = Vec::new();
     for method in Method::ALL {
@@ -866,7 +866,7 @@ fn within_seconds<T: Send + 'static>(seconds: u64, what: &str, f: impl FnOnce() 
 }
 
 /// Boundary loop lengths of a mesh (the original polylines).
-fn loop_lengths(mesh: &QuadMesh) -> Vec<f64> {
+fn loop_lengths(mesh: &Mesh) -> Vec<f64> {
     let topo = Topology::new(mesh);
     topo.boundary_loops()
         .map(|lp| {
@@ -922,7 +922,7 @@ fn saved_fuzz_files_read_and_optimize() {
 fn huge_coordinate_on_the_boundary_does_not_panic() {
     let (mut p, q) = Grid::new(10, 1).unit();
     p[13] = DVec2::new(-1.0568409687981505e270, 5.431728992907e-312);
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = Mesh::new(p, q, None).unwrap();
     assert_eq!(loop_lengths(&mesh), vec![f64::INFINITY]);
     let options = Options::DEFAULT
         .with_method(Method::AngleBased)
@@ -958,7 +958,7 @@ fn huge_coordinate_on_the_boundary_does_not_panic() {
 fn overflowing_target_leaves_the_vertex_in_place() {
     let (mut p, q) = Grid::new(3, 2).unit();
     p[0] = DVec2::new(-8.161677500224396e298, 1.37978955024905e-309);
-    let mesh = QuadMesh::new(p, q, None).unwrap();
+    let mesh = Mesh::new(p, q, None).unwrap();
     for method in Method::ALL {
         for boundary in BoundaryMode::ALL {
             let options = Options::default()
@@ -995,10 +995,10 @@ fn overflowing_target_leaves_the_vertex_in_place() {
 fn remeasured_output_quality_matches_the_report() {
     let (mut p, q) = Grid::new(4, 2).unit();
     p[0] = DVec2::new(1.0658546981484702e116, 1.83e-322);
-    let mesh = QuadMesh::new(p, q.clone(), None).unwrap();
+    let mesh = Mesh::new(p, q.clone(), None).unwrap();
     let mut out = mesh.clone();
     let r = optimize(&mut out, &Options::default()).unwrap();
-    let again = QuadMesh::new(out.points().to_vec(), q, None).unwrap();
+    let again = Mesh::new(out.points().to_vec(), q, None).unwrap();
     assert_eq!(
         again.quality(),
         r.output,

@@ -8,11 +8,11 @@ mod common;
 use common::Rng;
 use common::grids::Grid;
 use quadopt::face::{self, NO_VERTEX};
-use quadopt::{BoundaryMode, DVec2, Effort, Method, Optimizer, Options, QuadMesh, Topology, VertexKind};
+use quadopt::{BoundaryMode, DVec2, Effort, Mesh, Method, Optimizer, Options, Topology, VertexKind};
 
 /// An n x n grid of unit cells with every `every`-th cell split into two triangles along a
 /// diagonal, interior vertices jittered by `amount` of the cell: a quad-dominant mesh.
-fn mixed_grid(n: usize, every: usize, amount: f64, seed: u64) -> QuadMesh {
+fn mixed_grid(n: usize, every: usize, amount: f64, seed: u64) -> Mesh {
     let grid = Grid::square(n);
     let mut rng = Rng(seed);
     let points = grid.points(|i, j| {
@@ -34,7 +34,7 @@ fn mixed_grid(n: usize, every: usize, amount: f64, seed: u64) -> QuadMesh {
             faces.push(q);
         }
     }
-    QuadMesh::with_faces(points, faces, None).unwrap()
+    Mesh::with_faces(points, faces, None).unwrap()
 }
 
 fn presets() -> [(&'static str, Options); 6] {
@@ -49,7 +49,7 @@ fn presets() -> [(&'static str, Options); 6] {
 }
 
 /// Whether `p` lies on the original boundary polyline of `mesh` (within `tol`).
-fn on_boundary(original: &QuadMesh, topo: &Topology, p: DVec2, tol: f64) -> bool {
+fn on_boundary(original: &Mesh, topo: &Topology, p: DVec2, tol: f64) -> bool {
     topo.boundary_loops().any(|lp| {
         (0..lp.len()).any(|i| {
             let (a, b) =
@@ -139,13 +139,13 @@ fn triangles_are_measured_as_verdict_triangles() {
         DVec2::new(0., 1.),
         DVec2::new(1., 1.),
     ];
-    let mesh = QuadMesh::with_faces(points.clone(), vec![face::triangle(0, 1, 2)], None).unwrap();
+    let mesh = Mesh::with_faces(points.clone(), vec![face::triangle(0, 1, 2)], None).unwrap();
     assert!((mesh.quality().min - 1.0).abs() < 1e-15);
-    let right = QuadMesh::with_faces(points.clone(), vec![face::triangle(0, 1, 3)], None).unwrap();
+    let right = Mesh::with_faces(points.clone(), vec![face::triangle(0, 1, 3)], None).unwrap();
     let want = 0.5_f64.sqrt() * 2.0 / 3.0_f64.sqrt();
     assert!((right.quality().min - want).abs() < 1e-15, "{}", right.quality().min);
     // A clockwise triangle next to a counter-clockwise quad is inverted.
-    let folded = QuadMesh::with_faces(
+    let folded = Mesh::with_faces(
         vec![
             DVec2::new(0., 0.),
             DVec2::new(1., 0.),
@@ -168,12 +168,12 @@ fn triangles_are_measured_as_verdict_triangles() {
 fn malformed_faces_are_refused() {
     let p = vec![DVec2::new(0., 0.), DVec2::new(1., 0.), DVec2::new(0., 1.)];
     // The sentinel is a fourth vertex only.
-    assert!(QuadMesh::with_faces(p.clone(), vec![[0, NO_VERTEX, 1, 2]], None).is_err());
-    assert!(QuadMesh::with_faces(p.clone(), vec![face::triangle(0, 1, 1)], None).is_err());
-    assert!(QuadMesh::with_faces(p.clone(), vec![face::triangle(0, 1, 3)], None).is_err());
+    assert!(Mesh::with_faces(p.clone(), vec![[0, NO_VERTEX, 1, 2]], None).is_err());
+    assert!(Mesh::with_faces(p.clone(), vec![face::triangle(0, 1, 1)], None).is_err());
+    assert!(Mesh::with_faces(p.clone(), vec![face::triangle(0, 1, 3)], None).is_err());
     // The quad-only constructor refuses triangles.
-    assert!(QuadMesh::new(p.clone(), vec![face::triangle(0, 1, 2)], None).is_err());
-    assert_eq!(QuadMesh::with_faces(p, vec![face::triangle(0, 1, 2)], None).unwrap().triangle_count(), 1);
+    assert!(Mesh::new(p.clone(), vec![face::triangle(0, 1, 2)], None).is_err());
+    assert_eq!(Mesh::with_faces(p, vec![face::triangle(0, 1, 2)], None).unwrap().triangle_count(), 1);
 }
 
 #[test]
@@ -191,7 +191,7 @@ fn fixed_triangles_leave_the_quads_run_as_it_was() {
     });
     let quads = grid.quads();
     let options = Options::default().with_boundary(BoundaryMode::Fixed);
-    let mut alone = QuadMesh::new(points.clone(), quads.clone(), None).unwrap();
+    let mut alone = Mesh::new(points.clone(), quads.clone(), None).unwrap();
     quadopt::optimize(&mut alone, &options).unwrap();
 
     // One equilateral triangle on each bottom edge: quality 1, never the worst face.
@@ -208,7 +208,7 @@ fn fixed_triangles_leave_the_quads_run_as_it_was() {
             fixed[v as usize] = true;
         }
     }
-    let mut mixed = QuadMesh::with_faces(mixed_points.clone(), faces, Some(fixed)).unwrap();
+    let mut mixed = Mesh::with_faces(mixed_points.clone(), faces, Some(fixed)).unwrap();
     assert_eq!(mixed.triangle_count(), n);
     quadopt::optimize(&mut mixed, &options).unwrap();
     for v in 0..points.len() {

@@ -18,7 +18,7 @@ use common::hard::hard_meshes;
 use common::samples::{jittered, load, sample_files};
 use common::shared;
 use quadopt::io::{self, PlanarMesh};
-use quadopt::{BoundaryMode, Optimizer, Options, QuadMesh, StopRule, Topology};
+use quadopt::{BoundaryMode, Mesh, Optimizer, Options, StopRule, Topology};
 use std::path::PathBuf;
 
 /// Quality lost against the floor that still passes (the optimizer's own tie threshold).
@@ -32,7 +32,7 @@ const TOLERANCE: f64 = 1e-3;
 const EDGE_RATIO_KEPT: f64 = 0.1;
 
 /// Smallest shortest/longest edge ratio over the faces of `mesh`, each over its own edges.
-fn edge_ratio(mesh: &QuadMesh) -> f64 {
+fn edge_ratio(mesh: &Mesh) -> f64 {
     let p = mesh.points();
     mesh.quads()
         .iter()
@@ -98,7 +98,7 @@ const CHAOTIC_TOLERANCE: f64 = 0.02;
 /// interior vertices moved by 1e-7 of their shortest edge: (median inverted, min, avg) and
 /// the spread of min and avg.
 fn medians_over_copies(
-    original: &QuadMesh,
+    original: &Mesh,
     options: &Options,
     first: &quadopt::QualityStats,
 ) -> ((usize, f64, f64), f64, f64) {
@@ -182,7 +182,7 @@ const FLOOR: &[(&str, usize, f64, f64)] = &[
 
 /// Every mesh of the floor: samples, jittered samples, hard meshes, and Mesquite's if present;
 /// and whether Mesquite's were.
-fn meshes() -> (Vec<(String, QuadMesh)>, bool) {
+fn meshes() -> (Vec<(String, Mesh)>, bool) {
     let mut out = Vec::new();
     for path in sample_files() {
         let (name, mesh, _) = load(&path);
@@ -360,7 +360,7 @@ fn a_rejected_stage_is_retried_without_its_escapes() {
 
 /// Mesquite's mesh `file` (under ../shared/meshes/mesquite) as the optimizer's 2D mesh, or
 /// `None` (with a line saying `test` is skipped) when Mesquite's meshes are absent.
-fn mesquite_mesh(test: &str, file: &str) -> Option<QuadMesh> {
+fn mesquite_mesh(test: &str, file: &str) -> Option<Mesh> {
     let dir = shared::mesquite(&format!("{test} (Mesquite's {file})"))?;
     let data = io::read_mesh(dir.join(file)).unwrap();
     Some(PlanarMesh::new(&data).unwrap().mesh)

@@ -7,7 +7,7 @@ use common::Rng;
 use quadopt::TangleReason;
 use quadopt::quality::{corners, scaled_jacobian};
 use quadopt::synthetic::Synthetic;
-use quadopt::{DVec2, Optimizer, Options, QuadMesh};
+use quadopt::{DVec2, Mesh, Optimizer, Options};
 
 /// A mesh large enough to be renumbered (at least 16,384 vertices).
 fn large() -> Synthetic {
@@ -26,7 +26,7 @@ fn permutation(n: usize, rng: &mut Rng) -> Vec<u32> {
 
 /// `mesh` with its vertices and quads numbered by random permutations; `new_of[v]` is the
 /// new index of vertex `v`, `quad_new_of[k]` that of quad `k`.
-fn shuffled(mesh: &QuadMesh, seed: u64) -> (QuadMesh, Vec<u32>, Vec<u32>) {
+fn shuffled(mesh: &Mesh, seed: u64) -> (Mesh, Vec<u32>, Vec<u32>) {
     let mut rng = Rng(seed);
     let old_of = permutation(mesh.points().len(), &mut rng);
     let quad_old_of = permutation(mesh.quads().len(), &mut rng);
@@ -41,15 +41,15 @@ fn shuffled(mesh: &QuadMesh, seed: u64) -> (QuadMesh, Vec<u32>, Vec<u32>) {
     let points = old_of.iter().map(|&v| mesh.points()[v as usize]).collect();
     let fixed = old_of.iter().map(|&v| mesh.fixed()[v as usize]).collect();
     let quads = quad_old_of.iter().map(|&k| mesh.quads()[k as usize].map(|v| new_of[v as usize])).collect();
-    (QuadMesh::new(points, quads, Some(fixed)).unwrap(), new_of, quad_new_of)
+    (Mesh::new(points, quads, Some(fixed)).unwrap(), new_of, quad_new_of)
 }
 
-fn with_fixed(mesh: &QuadMesh, fixed: &[usize]) -> QuadMesh {
+fn with_fixed(mesh: &Mesh, fixed: &[usize]) -> Mesh {
     let mut flags = mesh.fixed().to_vec();
     for &v in fixed {
         flags[v] = true;
     }
-    QuadMesh::new(mesh.points().to_vec(), mesh.quads().to_vec(), Some(flags)).unwrap()
+    Mesh::new(mesh.points().to_vec(), mesh.quads().to_vec(), Some(flags)).unwrap()
 }
 
 #[test]
@@ -107,7 +107,7 @@ fn tangled_quads_are_reported_in_the_callers_numbering() {
     for &v in &q {
         fixed[v as usize] = true;
     }
-    let mesh = QuadMesh::new(points, base.quads().to_vec(), Some(fixed)).unwrap();
+    let mesh = Mesh::new(points, base.quads().to_vec(), Some(fixed)).unwrap();
     assert!(scaled_jacobian(&corners(mesh.points(), &mesh.quads()[k])) < 0.0);
     let options = Options::default().with_max_iterations(10);
     let (input, _, quad_new_of) = shuffled(&mesh, 3);
@@ -137,7 +137,7 @@ fn a_mesh_with_other_quads_is_an_error_and_is_left_as_it_was() {
         reversed.reverse();
         // One quad fewer; the same quads in another order.
         for quads in [mesh.quads()[1..].to_vec(), reversed] {
-            let other = QuadMesh::new(mesh.points().to_vec(), quads, None).unwrap();
+            let other = Mesh::new(mesh.points().to_vec(), quads, None).unwrap();
             let mut m = other.clone();
             let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
             assert!(matches!(err, quadopt::Error::ConnectivityMismatch { .. }), "{err}");
@@ -146,7 +146,7 @@ fn a_mesh_with_other_quads_is_an_error_and_is_left_as_it_was() {
         // Another vertex count.
         let mut points = mesh.points().to_vec();
         points.push(DVec2::new(1e3, 1e3));
-        let mut m = QuadMesh::new(points, mesh.quads().to_vec(), None).unwrap();
+        let mut m = Mesh::new(points, mesh.quads().to_vec(), None).unwrap();
         let before = m.points().to_vec();
         let err = optimizer.run(&mut m, &Options::default(), None).unwrap_err();
         assert!(matches!(err, quadopt::Error::VertexCountMismatch { .. }), "{err}");

@@ -27,7 +27,7 @@ use common::samples::{jittered, load, sample_files};
 use quadopt::Features;
 
 use quadopt::Topology;
-use quadopt::{BoundaryMode, DVec2, Method, Optimizer, Options, QuadMesh, QualityStats};
+use quadopt::{BoundaryMode, DVec2, Mesh, Method, Optimizer, Options, QualityStats};
 use std::path::Path;
 
 /// Distance from `p` to the closed polyline through `loop_points`.
@@ -52,12 +52,7 @@ fn bits_equal(a: DVec2, b: DVec2) -> bool {
 }
 
 /// Every preservation property of one run; returns one message per violation.
-fn preservation_failures(
-    before: &QuadMesh,
-    after: &QuadMesh,
-    topo: &Topology,
-    options: &Options,
-) -> Vec<String> {
+fn preservation_failures(before: &Mesh, after: &Mesh, topo: &Topology, options: &Options) -> Vec<String> {
     let mut fails = Vec::new();
     if before.quads() != after.quads() {
         fails.push("topology changed".to_string());
@@ -255,7 +250,7 @@ fn the_checks_detect_violations() {
 #[test]
 fn samples_are_as_poor_as_the_papers_inputs() {
     // The generator must produce what data/README.md claims, or the test above proves little.
-    let samples: Vec<(String, QuadMesh, bool)> = sample_files().iter().map(|p| load(p)).collect();
+    let samples: Vec<(String, Mesh, bool)> = sample_files().iter().map(|p| load(p)).collect();
     let q: Vec<(&str, QualityStats)> = samples.iter().map(|(n, m, _)| (n.as_str(), m.quality())).collect();
     let with_inverted = q.iter().filter(|(_, s)| s.inverted > 0).count();
     assert!(with_inverted >= 5, "only {with_inverted} samples have inverted quads: {q:?}");
@@ -284,7 +279,7 @@ fn samples_are_as_poor_as_the_papers_inputs() {
         }
     }
     // The `fixed` point-data path is exercised: some samples pin their outer boundary.
-    let fixed: Vec<&(String, QuadMesh, bool)> = samples.iter().filter(|(_, _, f)| *f).collect();
+    let fixed: Vec<&(String, Mesh, bool)> = samples.iter().filter(|(_, _, f)| *f).collect();
     assert!(!fixed.is_empty(), "no sample has a `fixed` array");
     for (name, mesh, _) in fixed {
         // The fixed vertices are exactly one whole boundary loop, the one enclosing the others.

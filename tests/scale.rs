@@ -25,7 +25,7 @@ use common::Rng;
 use common::grids::Grid;
 use quadopt::ffi::{QuadoptQuality, QuadoptStatus, quadopt_quality};
 use quadopt::testing::scale_by_power_of_two;
-use quadopt::{DVec2, Optimizer, Options, QuadMesh, Report, Topology};
+use quadopt::{DVec2, Mesh, Optimizer, Options, Report, Topology};
 
 /// Factors that are not powers of two, over the whole range asked for.
 const FACTORS: [f64; 14] =
@@ -99,10 +99,10 @@ fn shortest_edge(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
 #[test]
 fn the_test_meshes_are_what_they_claim() {
     let ms = meshes();
-    let tangled = QuadMesh::new(ms[0].1.clone(), ms[0].2.clone(), None).unwrap().quality();
+    let tangled = Mesh::new(ms[0].1.clone(), ms[0].2.clone(), None).unwrap().quality();
     assert!(tangled.inverted >= 1, "{tangled:?}");
     for (name, p, q, f) in &ms[1..] {
-        let s = QuadMesh::new(p.clone(), q.clone(), f.clone()).unwrap().quality();
+        let s = Mesh::new(p.clone(), q.clone(), f.clone()).unwrap().quality();
         assert!(s.inverted == 0 && s.min < 0.8, "{name}: {s:?}");
     }
 }
@@ -110,10 +110,10 @@ fn the_test_meshes_are_what_they_claim() {
 #[test]
 fn quality_is_the_same_at_every_scale_and_within_minus_one_and_one() {
     for (name, p, q, _) in meshes() {
-        let unit = QuadMesh::new(p.clone(), q.clone(), None).unwrap();
+        let unit = Mesh::new(p.clone(), q.clone(), None).unwrap();
         let (values, stats) = (unit.quality_values(), unit.quality());
         for factor in FACTORS {
-            let m = QuadMesh::new(scaled(&p, factor), q.clone(), None).unwrap();
+            let m = Mesh::new(scaled(&p, factor), q.clone(), None).unwrap();
             let (v, s) = (m.quality_values(), m.quality());
             for (k, (a, b)) in v.iter().zip(&values).enumerate() {
                 assert!((-1.0..=1.0).contains(a), "{name} x{factor:e}: quad {k} scores {a}");
@@ -127,7 +127,7 @@ fn quality_is_the_same_at_every_scale_and_within_minus_one_and_one() {
             assert!((-1.0..=1.0).contains(&s.max), "{name} x{factor:e}: {s:?}");
         }
         for e in EXPONENTS {
-            let m = QuadMesh::new(scaled_by_power_of_two(&p, e), q.clone(), None).unwrap();
+            let m = Mesh::new(scaled_by_power_of_two(&p, e), q.clone(), None).unwrap();
             assert_eq!(m.quality_values(), values, "{name} x2^{e}");
         }
     }
@@ -138,7 +138,7 @@ fn a_perfect_grid_at_tiny_spacing_has_no_inverted_quad() {
     // The case: at 1e-170 spacing the squared edge lengths underflowed to zero.
     let (p, q) = jittered_grid(5, 0.0, false, 0);
     for factor in [1e-170, 1e-300, 1e-307, 1e170, 1e300] {
-        let s = QuadMesh::new(scaled(&p, factor), q.clone(), None).unwrap().quality();
+        let s = Mesh::new(scaled(&p, factor), q.clone(), None).unwrap().quality();
         assert_eq!((s.min, s.max, s.inverted), (1.0, 1.0, 0), "x{factor:e}");
     }
 }
@@ -147,7 +147,7 @@ fn a_perfect_grid_at_tiny_spacing_has_no_inverted_quad() {
 fn the_c_abi_quality_is_finite_and_counts_the_inverted_quad_at_1e155() {
     // The case: +inf statistics and 0 inverted quads from quadopt_quality.
     let (p, q) = tangled();
-    let unit = QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality();
+    let unit = Mesh::new(p.clone(), q.clone(), None).unwrap().quality();
     for factor in [1e155, 1e-155, 1e300] {
         let coords: Vec<f64> = scaled(&p, factor).iter().flat_map(|v| [v.x, v.y]).collect();
         let quads: Vec<u32> = q.iter().flatten().copied().collect();
@@ -197,11 +197,11 @@ fn extreme_coordinates_give_values_in_range() {
 #[test]
 fn quality_under_translation_is_within_the_stated_bound() {
     for (name, p, q, _) in meshes() {
-        let values = QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality_values();
+        let values = Mesh::new(p.clone(), q.clone(), None).unwrap().quality_values();
         let h = shortest_edge(&p, &q);
         for offset in [1e3, 1e6, 1e9, 1e12] {
             let moved: Vec<DVec2> = p.iter().map(|&v| v + DVec2::new(offset, -0.5 * offset)).collect();
-            let m = QuadMesh::new(moved, q.clone(), None).unwrap();
+            let m = Mesh::new(moved, q.clone(), None).unwrap();
             let bound = 4.0 * f64::EPSILON * offset / h + 1e-14;
             let worst =
                 m.quality_values().iter().zip(&values).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -209,7 +209,7 @@ fn quality_under_translation_is_within_the_stated_bound() {
             if bound < 1e-3 {
                 assert_eq!(
                     m.quality().inverted,
-                    QuadMesh::new(p.clone(), q.clone(), None).unwrap().quality().inverted
+                    Mesh::new(p.clone(), q.clone(), None).unwrap().quality().inverted
                 );
             }
         }
@@ -235,8 +235,8 @@ fn optimized_with(
     points: Vec<DVec2>,
     quads: &[[u32; 4]],
     fixed: &Option<Vec<bool>>,
-) -> (Vec<DVec2>, Report, Vec<Vec<u32>>, QuadMesh) {
-    let mut mesh = QuadMesh::new(points, quads.to_vec(), fixed.clone()).unwrap();
+) -> (Vec<DVec2>, Report, Vec<Vec<u32>>, Mesh) {
+    let mut mesh = Mesh::new(points, quads.to_vec(), fixed.clone()).unwrap();
     let input = mesh.clone();
     let optimizer = Optimizer::new(&mesh);
     let report = optimizer.run(&mut mesh, options, None).unwrap();
@@ -249,7 +249,7 @@ fn optimized(
     points: Vec<DVec2>,
     quads: &[[u32; 4]],
     fixed: &Option<Vec<bool>>,
-) -> (Vec<DVec2>, Report, Vec<Vec<u32>>, QuadMesh) {
+) -> (Vec<DVec2>, Report, Vec<Vec<u32>>, Mesh) {
     optimized_with(&sweeps(), points, quads, fixed)
 }
 
@@ -262,15 +262,8 @@ fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 /// Checks the guarantees of a run at `scale`: the report tells the truth, vertices that may
 /// not move (fixed, corners) are bit-identical, boundary vertices lie on the original
 /// boundary polyline (within 1e-11 of `scale`, the size of the mesh's unit cells).
-fn check_run(
-    name: &str,
-    input: &QuadMesh,
-    output: &[DVec2],
-    report: &Report,
-    loops: &[Vec<u32>],
-    scale: f64,
-) {
-    let after = QuadMesh::new(output.to_vec(), input.quads().to_vec(), None).unwrap().quality();
+fn check_run(name: &str, input: &Mesh, output: &[DVec2], report: &Report, loops: &[Vec<u32>], scale: f64) {
+    let after = Mesh::new(output.to_vec(), input.quads().to_vec(), None).unwrap().quality();
     assert_eq!(after, report.output, "{name}: report differs from the returned mesh");
     let before = input.points();
     for (v, &fixed) in input.fixed().iter().enumerate() {

@@ -12,7 +12,7 @@ use libfuzzer_sys::fuzz_target;
 use quadopt::ffi::{
     self, QuadoptOptimizer, QuadoptOptions, QuadoptProgress, QuadoptQuality, QuadoptReport, QuadoptStatus,
 };
-use quadopt::{BoundaryMode, DVec2, Method, Options, QuadMesh, StopRule};
+use quadopt::{BoundaryMode, DVec2, Method, Options, Mesh, StopRule};
 use quadopt_fuzz::{MAX_ITERATIONS, RawMesh};
 use std::ffi::{CStr, c_void};
 use std::mem::size_of;
@@ -341,7 +341,7 @@ fn run(input: Input) {
         (0..n).map(|i| DVec2::new(coords_before[i * dim], coords_before[i * dim + 1])).collect();
     let quads_given: Vec<[u32; 4]> = flat_quads.chunks_exact(4).map(|q| [q[0], q[1], q[2], q[3]]).collect();
     let fixed = fixed_bytes.map(|f| f.iter().map(|&b| b != 0).collect());
-    let mut mesh = QuadMesh::new(given, quads_given.clone(), fixed).expect("the library accepted this mesh");
+    let mut mesh = Mesh::new(given, quads_given.clone(), fixed).expect("the library accepted this mesh");
     let options = rust_options(&options_buffer.options).expect("the library accepted these options");
     let options = if input.options.is_some() { options } else { Options::default() };
     let r = quadopt::optimize(&mut mesh, &options).expect("the library accepted these options");
@@ -389,7 +389,7 @@ fn run(input: Input) {
     // `quadopt_quality` infers the orientation from the output geometry, which on a tangled
     // mesh can differ from the input's (tests/properties.rs,
     // remeasured_output_quality_matches_the_report), so compare with the same measurement.
-    let again = QuadMesh::new(mesh.points().to_vec(), quads_given, None).expect("the output is a valid mesh");
+    let again = Mesh::new(mesh.points().to_vec(), quads_given, None).expect("the output is a valid mesh");
     let values = again.quality_values();
     if !per_ptr.is_null() && per_len < m {
         assert_eq!(s, QuadoptStatus::InvalidArgument);

@@ -7,7 +7,7 @@
 //! crash that libFuzzer reports and minimizes, just like a panic.
 
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
-use quadopt::{BoundaryMode, DVec2, Error, Method, Options, QuadMesh, StopRule, optimize};
+use quadopt::{BoundaryMode, DVec2, Error, Method, Options, Mesh, StopRule, optimize};
 
 /// Largest mesh (vertices) the targets optimize: the optimizer is too slow on large random
 /// arrays for a useful number of executions per second.
@@ -191,7 +191,7 @@ impl RawMesh {
 /// Builds the mesh and optimizes it; checks every guarantee the optimizer makes.
 pub fn check_optimize(mesh: &RawMesh, options: &RawOptions) {
     let (points, quads, fixed) = mesh.arrays();
-    let mesh = match QuadMesh::new(points, quads, fixed) {
+    let mesh = match Mesh::new(points, quads, fixed) {
         Ok(m) => m,
         Err(e) => {
             assert!(!matches!(e, Error::InvalidOption { .. } | Error::VertexCountMismatch { .. }), "{e:?}");

@@ -3,7 +3,7 @@
 //! `isize::MAX`, `uint32_t` index ranges) before they are read into owned memory or written.
 
 use crate::alloc::try_with_capacity;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::quiet_threads;
 use glam::DVec2;
 use std::panic::{self, AssertUnwindSafe};
@@ -169,7 +169,7 @@ pub(super) unsafe fn read_points(
 }
 
 /// Reads `quad_count` faces of four `uint32_t` indices into owned memory (a triangle's fourth
-/// is [`QUADOPT_NO_VERTEX`], which [`QuadMesh::with_faces`] checks).
+/// is [`QUADOPT_NO_VERTEX`], which [`Mesh::with_faces`] checks).
 ///
 /// # Safety
 /// `quads` must be NULL with `quad_count == 0`, or point to `4 * quad_count` indices.
@@ -209,7 +209,7 @@ pub(super) unsafe fn read_mesh(
     quads: *const u32,
     quad_count: usize,
     fixed: *const u8,
-) -> Result<QuadMesh, FfiError> {
+) -> Result<Mesh, FfiError> {
     // Every check of every array first, so no array is read when another one is bad.
     let dim_n = check_dim(dim)?;
     check_u32_count(vertex_count, "vertex_count")?;
@@ -226,8 +226,8 @@ pub(super) unsafe fn read_mesh(
     // SAFETY: forwarded from this function's contract.
     let fixed = unsafe { read_fixed(fixed, vertex_count) }?;
     // Faces: quads, and triangles with QUADOPT_NO_VERTEX fourth (a quad-only array builds the
-    // mesh QuadMesh::new would).
-    Ok(QuadMesh::with_faces(points, quads, fixed)?)
+    // mesh Mesh::new would).
+    Ok(Mesh::with_faces(points, quads, fixed)?)
 }
 
 /// Writes x and y of every point into the caller's strided array; z is never written.

@@ -2,7 +2,7 @@
 //! once, immutable afterwards) and its create, optimize and free functions.
 
 use crate::error::Error;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::smooth::Optimizer;
 
 use super::boundary::{boundary, boundary_or, read_mesh, read_points, require_non_null, write_points};
@@ -17,7 +17,7 @@ use super::status::QuadoptStatus;
 #[derive(Debug)]
 pub struct QuadoptOptimizer {
     /// The validated mesh at creation (connectivity, fixed flags, orientation).
-    mesh: QuadMesh,
+    mesh: Mesh,
     /// The topology built from it.
     optimizer: Optimizer,
 }

@@ -4,7 +4,7 @@
 
 use crate::alloc::try_with_capacity;
 use crate::error::Error;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::pool;
 use crate::quality::QualityStats;
 use crate::quiet_threads;
@@ -32,13 +32,13 @@ const RUN_BYTES_FIXED: u128 = 64 << 10;
 
 /// Upper estimate of the bytes `Optimizer::new(mesh)` allocates at its peak.
 #[doc(hidden)]
-pub fn topology_bytes(mesh: &QuadMesh) -> u128 {
+pub fn topology_bytes(mesh: &Mesh) -> u128 {
     TOPOLOGY_BYTES_PER_ELEMENT * mesh.points().len().max(mesh.quads().len()) as u128 + TOPOLOGY_BYTES_FIXED
 }
 
 /// Upper estimate of the bytes one `Optimizer::run` on `mesh` allocates at its peak.
 #[doc(hidden)]
-pub fn run_bytes(mesh: &QuadMesh) -> u128 {
+pub fn run_bytes(mesh: &Mesh) -> u128 {
     let elements = mesh.points().len().max(mesh.quads().len()) as u128;
     RUN_BYTES_PER_ELEMENT * elements
         + RUN_BYTES_PER_BOUNDARY_EDGE * mesh.boundary_edge_count() as u128
@@ -63,9 +63,9 @@ pub(super) fn check_memory_for(bytes: u128, what: &'static str) -> Result<(), Er
 /// written.
 pub(super) fn run(
     built: Option<&Optimizer>,
-    mut mesh: QuadMesh,
+    mut mesh: Mesh,
     o: &QuadoptOptions,
-) -> Result<(QuadMesh, Report), FfiError> {
+) -> Result<(Mesh, Report), FfiError> {
     let options = convert_options(o)?;
     let (callback, user_data) = (o.progress, o.progress_user_data);
     let mut last = None;

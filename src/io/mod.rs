@@ -1,6 +1,6 @@
 //! Mesh files: Wavefront OBJ, OFF, legacy VTK (ASCII), Gmsh MSH (ASCII 2.2 and 4.1, binary 4.1)
 //! and VTK XML UnstructuredGrid (`.vtu`), read and written, chosen by file extension; and the mapping of a planar mesh in 3D space to the
-//! 2D [`QuadMesh`](crate::QuadMesh) the optimizer works on ([`planar`]).
+//! 2D [`Mesh`](crate::Mesh) the optimizer works on ([`planar`]).
 //!
 //! Every format reads and writes quad-dominant meshes: quads and triangles, in the file's
 //! order (a triangle is stored as in [`crate::face`], [`NO_VERTEX`](crate::face::NO_VERTEX)

@@ -20,7 +20,7 @@
 
 use super::{IoError, MeshData};
 use crate::error::Error;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::power_of_two::{binary_exponent, scale_by_power_of_two};
 use glam::{DVec2, DVec3};
 
@@ -225,19 +225,19 @@ fn smallest_eigenvector(mut a: [[f64; 3]; 3]) -> DVec3 {
     DVec3::new(v[0][k], v[1][k], v[2][k]).normalize_or(DVec3::Z)
 }
 
-/// A file's mesh as the 2D [`QuadMesh`] the optimizer works on, with the frame to map it back.
+/// A file's mesh as the 2D [`Mesh`] the optimizer works on, with the frame to map it back.
 #[derive(Clone, Debug)]
 pub struct PlanarMesh {
     /// The 2D mesh (fixed flags from the file; vertices used by no face included, they never
     /// move).
-    pub mesh: QuadMesh,
+    pub mesh: Mesh,
     /// The plane and its 2D frame.
     pub frame: PlanarFrame,
 }
 
 impl PlanarMesh {
     /// Fits the plane of `data` (see the module docs) and builds the validated 2D mesh, its
-    /// triangles included ([`QuadMesh::with_faces`]).
+    /// triangles included ([`Mesh::with_faces`]).
     pub fn new(data: &MeshData) -> Result<PlanarMesh, IoError> {
         data.check()?;
         let mut used = vec![false; data.points.len()];
@@ -248,8 +248,8 @@ impl PlanarMesh {
         }
         let frame = PlanarFrame::fit(&data.points, Some(&used))?;
         let points: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
-        // Triangles are kept (a mesh without any is the one `QuadMesh::new` builds).
-        let mesh = QuadMesh::with_faces(points, data.quads.clone(), data.fixed.clone())?;
+        // Triangles are kept (a mesh without any is the one `Mesh::new` builds).
+        let mesh = Mesh::with_faces(points, data.quads.clone(), data.fixed.clone())?;
         Ok(PlanarMesh { mesh, frame })
     }
 
@@ -269,7 +269,7 @@ impl PlanarMesh {
     /// Writes the optimized positions back into `data` (the mesh this was built from) and
     /// returns how many vertices moved: moved vertices get their point of the plane, every
     /// other vertex keeps its original coordinates bit for bit; the faces become
-    /// [`QuadMesh::quads_as_given`] (consistently oriented, in the handedness of the input),
+    /// [`Mesh::quads_as_given`] (consistently oriented, in the handedness of the input),
     /// so `data.quads` need not be kept meanwhile.
     pub fn write_back(&self, data: &mut MeshData) -> usize {
         let mut moved = 0;

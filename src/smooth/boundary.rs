@@ -512,7 +512,7 @@ pub fn update(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::QuadMesh;
+    use crate::Mesh;
 
     #[test]
     fn point_segment_distances() {
@@ -543,7 +543,7 @@ mod tests {
                 if inside { p } else { p + 0.2 * DVec2::new(rnd(), rnd()) }
             })
             .collect();
-        let mesh = QuadMesh::new(points, grid.quads().to_vec(), None).unwrap();
+        let mesh = Mesh::new(points, grid.quads().to_vec(), None).unwrap();
         let topo = Topology::new(&mesh);
         let features = Features::new(&mesh, &topo, 180.0, true);
         let geometry = BoundaryGeometry::new(mesh.points(), &topo, &features);

@@ -282,17 +282,17 @@ fn longest_step(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::QuadMesh;
+    use crate::Mesh;
 
     /// 2x2 unit squares; vertex 4 is the centre.
-    fn grid_2x2() -> (QuadMesh, Topology) {
+    fn grid_2x2() -> (Mesh, Topology) {
         let mut p = Vec::new();
         for j in 0..3 {
             for i in 0..3 {
                 p.push(DVec2::new(i as f64, j as f64));
             }
         }
-        let m = QuadMesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
+        let m = Mesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
         let t = Topology::new(&m);
         (m, t)
     }

@@ -37,7 +37,7 @@ pub mod untangle;
 
 use crate::error::{Error, Result};
 use crate::features::Features;
-use crate::mesh::QuadMesh;
+use crate::mesh::Mesh;
 use crate::normalization::Normalization;
 use crate::quality::{ByFaceKind, QualityStats};
 use crate::renumbering::Renumbering;
@@ -55,7 +55,7 @@ pub use untangle::{TangleReason, TangledQuad};
 
 /// Optimizes `mesh` in place with `options`. Builds the topology; to optimize many meshes
 /// with the same connectivity, build an [`Optimizer`] once instead.
-pub fn optimize(mesh: &mut QuadMesh, options: &Options) -> Result<Report> {
+pub fn optimize(mesh: &mut Mesh, options: &Options) -> Result<Report> {
     Optimizer::new(mesh).run(mesh, options, None)
 }
 
@@ -65,12 +65,12 @@ pub fn optimize(mesh: &mut QuadMesh, options: &Options) -> Result<Report> {
 /// (along a Hilbert curve); results come back in the caller's numbering.
 ///
 /// ```
-/// use quadopt::{DVec2, Optimizer, Options, QuadMesh};
+/// use quadopt::{DVec2, Optimizer, Options, Mesh};
 ///
 /// // One connectivity (a 2x2 patch), two placements of its centre vertex.
 /// let grid: Vec<DVec2> = (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
 /// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-/// let mut mesh = QuadMesh::new(grid.clone(), quads, None)?;
+/// let mut mesh = Mesh::new(grid.clone(), quads, None)?;
 /// let optimizer = Optimizer::new(&mesh); // the topology, built once
 ///
 /// let options = Options::default();
@@ -112,7 +112,7 @@ fn fingerprint(quads: &[[u32; 4]]) -> u64 {
 
 impl Optimizer {
     /// Builds the topology of `mesh`.
-    pub fn new(mesh: &QuadMesh) -> Optimizer {
+    pub fn new(mesh: &Mesh) -> Optimizer {
         // The order is only for speed: without the memory for it the mesh keeps its own.
         let (quad_count, fingerprint) = (mesh.quads().len(), fingerprint(mesh.quads()));
         if let Ok(Some(renumbering)) = Renumbering::new(mesh) {
@@ -142,7 +142,7 @@ impl Optimizer {
     /// worker thread can start at all, the run fails with [`Error::NoThreads`].
     pub fn run(
         &self,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
@@ -171,7 +171,7 @@ impl Optimizer {
     /// [`Optimizer::run`] after its checks: in the internal numbering if there is one.
     fn run_in_numbering(
         &self,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
@@ -195,7 +195,7 @@ impl Optimizer {
     /// [`Optimizer::run`] on a mesh in the internal numbering.
     fn run_on_pool(
         &self,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
@@ -227,7 +227,7 @@ impl Optimizer {
     /// releases before it), so that what the report diagnoses is what the output has.
     fn run_here(
         &self,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<Report> {
@@ -247,7 +247,7 @@ impl Optimizer {
     fn run_in_frame(
         &self,
         frame: &Normalization,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<(Report, bool)> {
@@ -320,7 +320,7 @@ impl Optimizer {
     /// on the boundary polyline.
     fn run_normalized(
         &self,
-        mesh: &mut QuadMesh,
+        mesh: &mut Mesh,
         options: &Options,
         mut progress: Option<&mut dyn FnMut(&Progress) -> bool>,
     ) -> Result<(Report, Vec<OnPolyline>)> {
@@ -420,7 +420,7 @@ struct OnPolyline {
 /// round after round while that changes anything (at most a few rounds): each such vertex was
 /// within the grid's rounding of a position that kept its quads at or above `bar`. Boundary
 /// vertices stay, as the boundary's fidelity was measured with them where they are.
-fn restore_quads_below(mesh: &mut QuadMesh, original: &[DVec2], topo: &Topology, bar: f64) {
+fn restore_quads_below(mesh: &mut Mesh, original: &[DVec2], topo: &Topology, bar: f64) {
     const ROUNDS: usize = 4;
     for _ in 0..ROUNDS {
         let values = mesh.quality_values();
@@ -523,12 +523,12 @@ mod tests {
 
     /// 2x2 grid whose centre (vertex 4) is pinned at (1.5, 1), every vertex fixed but the
     /// bottom-middle one (vertex 1), which sits at (1, 0) between boundary neighbours 0 and 2.
-    fn one_free_boundary_vertex() -> QuadMesh {
+    fn one_free_boundary_vertex() -> Mesh {
         let m = grid(2, 2);
         let mut p = m.points().to_vec();
         p[4] = DVec2::new(1.5, 1.0);
         let fixed = (0..9).map(|v| v != 1).collect();
-        QuadMesh::new(p, m.quads().to_vec(), Some(fixed)).unwrap()
+        Mesh::new(p, m.quads().to_vec(), Some(fixed)).unwrap()
     }
 
     fn one_sweep(boundary: BoundaryMode) -> Options {
@@ -578,7 +578,7 @@ mod tests {
         // Corner rule: turning the bottom edge by more than the feature angle pins vertex 1.
         let mut p = before.clone();
         p[1] = DVec2::new(1.0, 0.9); // 2 * atan(0.9) = 84 degrees of turn > 45
-        let mut bent = QuadMesh::new(p.clone(), m.quads().to_vec(), Some(m.fixed().to_vec())).unwrap();
+        let mut bent = Mesh::new(p.clone(), m.quads().to_vec(), Some(m.fixed().to_vec())).unwrap();
         optimize(&mut bent, &one_sweep(BoundaryMode::Slide)).unwrap();
         assert_eq!(bent.points()[1], p[1]);
     }
@@ -601,7 +601,7 @@ mod tests {
                     }
                 })
                 .collect();
-            QuadMesh::new(p, m.quads().to_vec(), None).unwrap()
+            Mesh::new(p, m.quads().to_vec(), None).unwrap()
         };
         let run = |n: u32, options: &Options| optimize(&mut jitter(n), options).unwrap().iterations;
         let relative = Options {

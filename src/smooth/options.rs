@@ -180,7 +180,7 @@ impl FromStr for StopRule {
 /// public to read and to assign.
 ///
 /// ```
-/// use quadopt::{optimize, BoundaryMode, Method, Options, QuadMesh};
+/// use quadopt::{optimize, BoundaryMode, Method, Options, Mesh};
 /// # use quadopt::DVec2;
 ///
 /// // Laplacian smoothing with the boundary held, at most 50 sweeps.
@@ -200,7 +200,7 @@ impl FromStr for StopRule {
 ///     (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
 /// points[4] = DVec2::new(1.6, 1.5);
 /// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-/// let mut mesh = QuadMesh::new(points, quads, None)?;
+/// let mut mesh = Mesh::new(points, quads, None)?;
 /// let report = optimize(&mut mesh, &options)?;
 /// assert!(report.output.min > report.input.min);
 /// # Ok::<(), quadopt::Error>(())

@@ -30,14 +30,14 @@ pub struct Progress {
 /// Made only by the library (`#[non_exhaustive]`: later versions may add fields).
 ///
 /// ```
-/// use quadopt::{optimize, DVec2, Options, QuadMesh};
+/// use quadopt::{optimize, DVec2, Options, Mesh};
 ///
 /// // A 2x2 patch with its centre vertex dragged across an edge: one quad is inverted.
 /// let mut points: Vec<DVec2> =
 ///     (0..9).map(|k| DVec2::new((k % 3) as f64, (k / 3) as f64)).collect();
 /// points[4] = DVec2::new(2.2, 1.5);
 /// let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-/// let mut mesh = QuadMesh::new(points, quads, None)?;
+/// let mut mesh = Mesh::new(points, quads, None)?;
 /// assert!(mesh.quality().inverted > 0);
 ///
 /// let report = optimize(&mut mesh, &Options::default())?;

@@ -646,7 +646,7 @@ mod tests {
         let points =
             vec![DVec2::new(0.3, 0.4), DVec2::new(2.0, 0.1), DVec2::new(2.2, 1.9), DVec2::new(-0.1, 2.0)];
         let quads = vec![[0u32, 1, 2, 3]];
-        let m = crate::QuadMesh::new(points.clone(), quads.clone(), None).unwrap();
+        let m = crate::Mesh::new(points.clone(), quads.clone(), None).unwrap();
         let t = Topology::new(&m);
         let mut f = Vec::new();
         star_corners(&points, &quads, &t, 0, IDENTITY, &mut f);
@@ -741,7 +741,7 @@ mod tests {
             points.push(DVec2::new(d.cos(), d.sin()) * 1.5);
         }
         let quads = (0..n).map(|i| [0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % n)]).collect();
-        let mesh = crate::QuadMesh::new(points, quads, None).unwrap();
+        let mesh = crate::Mesh::new(points, quads, None).unwrap();
         let topo = Topology::new(&mesh);
         let features = Features::new(&mesh, &topo, 45.0, false);
         assert!(topo.quad_count(0) > CHUNK_QUADS && features.is_movable(0));

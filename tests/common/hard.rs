@@ -5,7 +5,7 @@
 
 use super::Rng;
 use super::grids::{interior_mask, on_coordinates};
-use quadopt::{DVec2, QuadMesh};
+use quadopt::{DVec2, Mesh};
 
 fn jitter(p: &mut [DVec2], movable: &[bool], amount: DVec2, rng: &mut Rng) {
     for (x, &m) in p.iter_mut().zip(movable) {
@@ -15,7 +15,7 @@ fn jitter(p: &mut [DVec2], movable: &[bool], amount: DVec2, rng: &mut Rng) {
     }
 }
 
-pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
+pub fn hard_meshes() -> Vec<(&'static str, Mesh)> {
     let mut out = Vec::new();
     let mut rng = Rng(7);
 
@@ -31,7 +31,7 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
             *x += DVec2::new(rng.next() * dx, rng.next() * 0.03);
         }
     }
-    out.push(("graded anisotropic", QuadMesh::new(p, q, None).unwrap()));
+    out.push(("graded anisotropic", Mesh::new(p, q, None).unwrap()));
 
     // Boundary layer: rows graded 1e-3 .. 1 in y, jittered in x by a fraction of the width.
     let xs: Vec<f64> = (0..=14).map(|i| i as f64).collect();
@@ -39,7 +39,7 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     let (mut p, q) = on_coordinates(&xs, &ys, |_, _| false);
     let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::new(0.35, 0.0), &mut rng);
-    out.push(("boundary layer", QuadMesh::new(p, q, None).unwrap()));
+    out.push(("boundary layer", Mesh::new(p, q, None).unwrap()));
 
     // Folded over several layers: in a 14x14 grid the band of rows 3..=9, columns 4..=10, is
     // mirrored (row 3 goes to row 9 and back), so six layers of quads lie upside down.
@@ -51,7 +51,7 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
             x.y = 12.0 - x.y + 0.1 * rng.next();
         }
     }
-    out.push(("folded layers", QuadMesh::new(p, q, None).unwrap()));
+    out.push(("folded layers", Mesh::new(p, q, None).unwrap()));
 
     // Near-touching boundary: a 20x8 plate with a slit 1/100 of a cell wide cut from the
     // left edge (two boundary parts almost touching); interior jittered.
@@ -60,7 +60,7 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     let (mut p, q) = on_coordinates(&xs, &ys, |i, j| j == 4 && i < 14);
     let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::new(0.3, 0.0), &mut rng);
-    out.push(("near-touching slit", QuadMesh::new(p, q, None).unwrap()));
+    out.push(("near-touching slit", Mesh::new(p, q, None).unwrap()));
 
     // Jittered plate with holes: 30x30 grid, three square holes, interior jittered hard
     // enough to fold dozens of quads.
@@ -73,6 +73,6 @@ pub fn hard_meshes() -> Vec<(&'static str, QuadMesh)> {
     let (mut p, q) = on_coordinates(&xs, &xs, hole);
     let inner = interior_mask(p.len(), &q);
     jitter(&mut p, &inner, DVec2::splat(0.62), &mut rng);
-    out.push(("jittered plate, holes", QuadMesh::new(p, q, None).unwrap()));
+    out.push(("jittered plate, holes", Mesh::new(p, q, None).unwrap()));
     out
 }

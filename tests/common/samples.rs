@@ -3,7 +3,7 @@
 
 use super::Rng;
 use quadopt::io::{self, PlanarMesh};
-use quadopt::{DVec2, QuadMesh};
+use quadopt::{DVec2, Mesh};
 use quadopt::{Topology, VertexKind};
 use std::path::{Path, PathBuf};
 
@@ -20,7 +20,7 @@ pub fn sample_files() -> Vec<PathBuf> {
 }
 
 /// A sample: its file name, the 2D mesh and whether the file had `fixed` flags.
-pub fn load(path: &Path) -> (String, QuadMesh, bool) {
+pub fn load(path: &Path) -> (String, Mesh, bool) {
     let data = io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
     let has_fixed = data.fixed.is_some();
     let planar = PlanarMesh::new(&data).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -30,7 +30,7 @@ pub fn load(path: &Path) -> (String, QuadMesh, bool) {
 
 /// `mesh` with every movable interior vertex moved by up to `amount` times its shortest
 /// incident edge, in a random direction.
-pub fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> QuadMesh {
+pub fn jittered(mesh: &Mesh, topo: &Topology, amount: f64, seed: u64) -> Mesh {
     let mut rng = Rng(seed);
     let mut points = mesh.points().to_vec();
     for (v, point) in points.iter_mut().enumerate() {
@@ -45,5 +45,5 @@ pub fn jittered(mesh: &QuadMesh, topo: &Topology, amount: f64, seed: u64) -> Qua
             .fold(f64::INFINITY, f64::min);
         *point = p + amount * h * DVec2::new(rng.next(), rng.next());
     }
-    QuadMesh::with_faces(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
+    Mesh::with_faces(points, mesh.quads().to_vec(), Some(mesh.fixed().to_vec())).unwrap()
 }

@@ -1,10 +1,10 @@
 //! What a written mesh carries besides its geometry, for viewers to colour by.
 
 use quadopt::io::{MeshData, PlanarMesh};
-use quadopt::{BoundaryMode, Options, QuadMesh};
+use quadopt::{BoundaryMode, Mesh, Options};
 
 /// Per-vertex corner flags of `mesh` (the corners `options` keep in place).
-pub fn corner_flags(mesh: &QuadMesh, options: &Options) -> Vec<bool> {
+pub fn corner_flags(mesh: &Mesh, options: &Options) -> Vec<bool> {
     let topo = quadopt::Topology::new(mesh);
     let features = quadopt::Features::new(
         mesh,

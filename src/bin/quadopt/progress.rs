@@ -2,7 +2,7 @@
 
 use crate::fail::Fail;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use quadopt::{Optimizer, Options, Progress, QuadMesh, Report};
+use quadopt::{Mesh, Optimizer, Options, Progress, Report};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -13,7 +13,7 @@ const PROGRESS_DELAY: Duration = Duration::from_millis(500);
 /// progress bar on stderr if stderr is a terminal (cleared at the end).
 pub fn run(
     optimizer: &Optimizer,
-    mesh: &mut QuadMesh,
+    mesh: &mut Mesh,
     options: &Options,
     progress: bool,
 ) -> Result<Report, Fail> {

@@ -6,7 +6,7 @@ use super::{
     Anchor, BIN_LABELS, Item, Picture, Quad, Rgb, TEXT, colour, hatch, histogram, is_inverted, text_width,
 };
 use glam::DVec2;
-use quadopt::{QuadMesh, QualityStats};
+use quadopt::{Mesh, QualityStats};
 
 const MARGIN: f32 = 20.0;
 /// The width of an inverted quad's outline and hatching: wider than any edge, so that an
@@ -27,7 +27,7 @@ const TICK_STEPS: [u32; 4] = [2, 5, 10, 20];
 const MAX_TICK_STEPS: u32 = 5;
 
 /// One mesh and its title line.
-pub fn single(mesh: &QuadMesh, title: &str) -> Picture {
+pub fn single(mesh: &Mesh, title: &str) -> Picture {
     let mut p = Builder::new(title);
     let panels = p.panels(&[mesh], 800.0);
     p.legend(panels.right + GAP, panels.top);
@@ -37,7 +37,7 @@ pub fn single(mesh: &QuadMesh, title: &str) -> Picture {
 /// The input (`before`) and the optimized mesh (`after`) side by side on one scale and one
 /// colour scale, each headed and with its min / avg / inverted underneath, and the histogram
 /// of both below.
-pub fn before_after(before: &QuadMesh, after: &QuadMesh, title: &str, headings: [&str; 2]) -> Picture {
+pub fn before_after(before: &Mesh, after: &Mesh, title: &str, headings: [&str; 2]) -> Picture {
     let mut p = Builder::new(title);
     let values = [before.quality_values(), after.quality_values()];
     let heading_top = p.bottom + 14.0;
@@ -96,7 +96,7 @@ impl Builder {
 
     /// The meshes in a row below what is there, the longer side of their common bounding box
     /// `size` pixels.
-    fn panels(&mut self, meshes: &[&QuadMesh], size: f64) -> Panels {
+    fn panels(&mut self, meshes: &[&Mesh], size: f64) -> Panels {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for m in meshes {
             let points = m.points();
@@ -290,7 +290,7 @@ fn bin_range(bin: usize) -> String {
 mod tests {
     use super::*;
 
-    fn jittered_grid(n: u32) -> QuadMesh {
+    fn jittered_grid(n: u32) -> Mesh {
         let mut points = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
@@ -306,7 +306,7 @@ mod tests {
                 quads.push([v, v + 1, v + n + 2, v + n + 1]);
             }
         }
-        QuadMesh::new(points, quads, None).unwrap()
+        Mesh::new(points, quads, None).unwrap()
     }
 
     fn assert_inside(p: &Picture) {
@@ -328,7 +328,7 @@ mod tests {
         assert_inside(&single(&m, "t"));
         assert_inside(&before_after(&m, &m, "t", ["before", "after"]));
         // A tall thin mesh: the histogram is wider than the panels.
-        let tall = QuadMesh::new(
+        let tall = Mesh::new(
             vec![DVec2::new(0.0, 0.0), DVec2::new(0.1, 0.0), DVec2::new(0.1, 10.0), DVec2::new(0.0, 10.0)],
             vec![[0, 1, 2, 3]],
             None,
@@ -338,11 +338,11 @@ mod tests {
     }
 
     /// A 2x2 grid whose centre is pushed into the upper right quad, which is inverted.
-    fn one_inverted() -> QuadMesh {
+    fn one_inverted() -> Mesh {
         let mut points: Vec<DVec2> = (0..9).map(|i| DVec2::new(f64::from(i % 3), f64::from(i / 3))).collect();
         points[4] = DVec2::new(1.9, 1.9);
         let quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-        QuadMesh::new(points, quads, None).unwrap()
+        Mesh::new(points, quads, None).unwrap()
     }
 
     /// The marks of a picture's mesh panels (those with a tooltip, not the legend's sample).

@@ -418,13 +418,18 @@ fn the_average_recovery_covers_at_most_its_budget_of_vertices() {
     assert_eq!(default.after, free.after);
 }
 
-/// Per quad, min(0.1 x its longest edge, 0.5 x its shortest edge).
+/// The edges of face `q`, as pairs of vertex indices (three for a triangle).
+fn face_edges(q: &[u32; 4]) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let n = quadopt::face::corner_count(q);
+    (0..n).map(move |i| (q[i] as usize, q[(i + 1) % n] as usize))
+}
+
+/// Per face, min(0.1 x its longest edge, 0.5 x its shortest edge).
 fn edge_floors(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
     quads
         .iter()
         .map(|q| {
-            let e: Vec<f64> =
-                (0..4).map(|i| points[q[i] as usize].distance(points[q[(i + 1) % 4] as usize])).collect();
+            let e: Vec<f64> = face_edges(q).map(|(a, b)| points[a].distance(points[b])).collect();
             let longest = e.iter().copied().fold(0.0, f64::max);
             let shortest = e.iter().copied().fold(f64::INFINITY, f64::min);
             (0.1 * longest).min(0.5 * shortest)
@@ -450,8 +455,7 @@ fn no_edge_is_squashed_below_its_floor() {
         let floors = edge_floors(mesh.points(), mesh.quads());
         let (points, report) = run(&mesh, BoundaryMode::Slide, &MaxMinSettings::default());
         for (qi, q) in mesh.quads().iter().enumerate() {
-            for i in 0..4 {
-                let (a, b) = (q[i] as usize, q[(i + 1) % 4] as usize);
+            for (a, b) in face_edges(q) {
                 let length = points[a].distance(points[b]);
                 // Rounding: the floor is compared on squared lengths.
                 assert!(

@@ -34,6 +34,11 @@ array `fixed` marking their outer boundary. Everything is deterministic: gmsh ru
 with fixed options, the perturbations use random.Random(seed), nothing depends on time or dict
 order. The quality printed is the signed 2D scaled Jacobian (quadopt's definition): per quad the
 minimum over its corners of cross(e_next/|e_next|, e_prev/|e_prev|).
+
+Quad-dominant samples (MIXED_SAMPLES, data/*_mixed.vtk): three of the models meshed in one gmsh
+run without the all-quad fallbacks, keeping the triangles the recombination leaves (VTK cell
+type 5 next to 9); a triangle's quality is Verdict's triangle scaled Jacobian (quadopt's). See
+README_MIXED below.
 """
 
 import argparse
@@ -137,13 +142,16 @@ def mazewheel(occ):
 # --------------------------------------------------------------------------------------------
 
 
-def gmsh_quads(build, size, algorithm, subdivide=False):
+def gmsh_quads(build, size, algorithm, subdivide=False, recombination=1, mixed=False):
     """Meshes the geometry made by build(occ) with target size `size` and 2D algorithm
-    `algorithm`, recombining with Blossom; returns (points, quads) with only the nodes used by
-    quads, renumbered in gmsh's node order, quads counter-clockwise. An all-quad mesh needs an
-    even number of boundary edges: when the 1D mesh has an odd number, the longest curve gets
-    one edge more. With `subdivide`, every element is split into quads (all-quad, four times as
-    many). Returns None when triangles remain (only possible without `subdivide`)."""
+    `algorithm`, recombining with Blossom (Mesh.RecombinationAlgorithm = `recombination`, 1);
+    returns (points, quads) with only the nodes used by quads, renumbered in gmsh's node order,
+    quads counter-clockwise. An all-quad mesh needs an even number of boundary edges: when the
+    1D mesh has an odd number, the longest curve gets one edge more. With `subdivide`, every
+    element is split into quads (all-quad, four times as many). Returns None when triangles
+    remain (only possible without `subdivide`). With `mixed` (quad-dominant samples), the
+    boundary is left as the 1D mesher made it and the triangles the recombination leaves are
+    kept: faces are then quads and triangles (3 vertices), all counter-clockwise."""
     import gmsh
 
     gmsh.initialize(["-noenv"], readConfigFiles=False)
@@ -161,13 +169,13 @@ def gmsh_quads(build, size, algorithm, subdivide=False):
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
         gmsh.option.setNumber("Mesh.Algorithm", algorithm)
         gmsh.option.setNumber("Mesh.RecombineAll", 1)
-        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", recombination)
         gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 1 if subdivide else 0)
         gmsh.option.setNumber("Mesh.Smoothing", 1)
         gmsh.option.setNumber("Mesh.RandomSeed", 1)
         gmsh.model.mesh.generate(1)
         counts = {c: len(gmsh.model.mesh.getElements(1, c)[1][0]) for _, c in gmsh.model.getEntities(1)}
-        if sum(counts.values()) % 2:
+        if sum(counts.values()) % 2 and not mixed:
             longest = max(sorted(counts), key=lambda c: counts[c])
             gmsh.model.mesh.setTransfiniteCurve(longest, counts[longest] + 2)
             gmsh.model.mesh.clear()
@@ -178,10 +186,11 @@ def gmsh_quads(build, size, algorithm, subdivide=False):
         types, _, nodes = gmsh.model.mesh.getElements(2)
         quads = []
         for ty, nd in zip(types, nodes):
-            if ty != 3:
+            if ty != 3 and not (mixed and ty == 2):
                 return None
+            k = 4 if ty == 3 else 3
             nd = [int(x) for x in nd]
-            quads += [nd[4 * i : 4 * i + 4] for i in range(len(nd) // 4)]
+            quads += [nd[k * i : k * i + k] for i in range(len(nd) // k)]
     finally:
         gmsh.finalize()
     used = sorted({v for q in quads for v in q})
@@ -212,15 +221,19 @@ def mesh_domain(build, size):
 
 def signed_area(p, q):
     a = 0.0
-    for i in range(4):
+    k = len(q)
+    for i in range(k):
         x0, y0 = p[q[i]]
-        x1, y1 = p[q[(i + 1) % 4]]
+        x1, y1 = p[q[(i + 1) % k]]
         a += x0 * y1 - x1 * y0
     return a / 2
 
 
 def scaled_jacobian(p, q):
-    """Signed 2D scaled Jacobian of a counter-clockwise quad (degenerate edge: 0)."""
+    """Signed 2D scaled Jacobian of a counter-clockwise quad (degenerate edge: 0), or of a
+    triangle (3 vertices; see triangle_scaled_jacobian)."""
+    if len(q) == 3:
+        return triangle_scaled_jacobian(p, q)
     m = math.inf
     for i in range(4):
         x, y = p[q[i]]
@@ -235,6 +248,20 @@ def scaled_jacobian(p, q):
     return m
 
 
+def triangle_scaled_jacobian(p, t):
+    """Verdict's triangle scaled Jacobian (quadopt's): twice the signed area over the largest
+    product of two edge lengths, times 2/sqrt(3) (equilateral: 1); 0 when collapsed."""
+    a, b, c = (p[v] for v in t)
+    l0 = math.hypot(b[0] - a[0], b[1] - a[1])
+    l1 = math.hypot(c[0] - b[0], c[1] - b[1])
+    l2 = math.hypot(a[0] - c[0], a[1] - c[1])
+    big = max(l0 * l2, l0 * l1, l1 * l2)
+    if big == 0:
+        return 0.0
+    cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return max(-1.0, min(1.0, cross * 2 / math.sqrt(3) / big))
+
+
 def stats(p, quads):
     v = [scaled_jacobian(p, q) for q in quads]
     return min(v), sum(v) / len(v), max(v), sum(1 for x in v if x <= 0)
@@ -245,9 +272,9 @@ def topology(n, quads):
     vq = [[] for _ in range(n)]
     edges = {}
     for qi, q in enumerate(quads):
-        for i in range(4):
+        for i in range(len(q)):
             vq[q[i]].append(qi)
-            a, b = q[i], q[(i + 1) % 4]
+            a, b = q[i], q[(i + 1) % len(q)]
             edges.setdefault((min(a, b), max(a, b)), []).append(qi)
     bnd = {}
     for (a, b), qs in edges.items():
@@ -296,8 +323,12 @@ def outer_loop(p, loops):
 # --------------------------------------------------------------------------------------------
 
 
-def perturb(points, quads, seed, jitter, slide, defects):
-    """Perturbs a copy of `points` (see the module docs); returns the new points."""
+def perturb(points, quads, seed, jitter, slide, defects, triangles_first=False):
+    """Perturbs a copy of `points` (see the module docs); returns the new points. With
+    `triangles_first` (quad-dominant samples), the defects go first to vertices with a triangle
+    in their star (in the same shuffled order), each moved towards the far edge of the first
+    such triangle (by index) instead of in a random direction, so that triangles are among the
+    worst faces."""
     rng = random.Random(seed)
     n = len(points)
     vq, edges, bnd = topology(n, quads)
@@ -353,6 +384,9 @@ def perturb(points, quads, seed, jitter, slide, defects):
     touched = set()
     order = [v for v in range(n) if v not in bnd]
     rng.shuffle(order)
+    if triangles_first:
+        near = [v for v in order if any(len(quads[q]) == 3 for q in vq[v])]
+        order = near + sorted(set(order) - set(near), key=order.index)
     it = iter(order)
     for target in defects:
         for v in it:
@@ -363,6 +397,13 @@ def perturb(points, quads, seed, jitter, slide, defects):
                 continue
             ang = rng.uniform(0, 2 * math.pi)
             dx, dy = math.cos(ang) * h[v], math.sin(ang) * h[v]
+            tris = [quads[q] for q in sorted(star) if len(quads[q]) == 3]
+            if triangles_first and tris:
+                # Towards the far edge of a triangle of the star, which it can then invert.
+                a, b = (u for u in tris[0] if u != v)
+                mx, my = (p[a][0] + p[b][0]) / 2 - p[v][0], (p[a][1] + p[b][1]) / 2 - p[v][1]
+                d = math.hypot(mx, my)
+                dx, dy = mx / d * h[v], my / d * h[v]
             x0, y0 = p[v]
 
             def star_min(t):
@@ -514,13 +555,58 @@ SAMPLES = [
 ]
 
 
+def model(name):
+    """The sample called `name` (its geometry, size and perturbation settings)."""
+    return next(s for s in SAMPLES if s["name"] == name)
+
+
+# Quad-dominant samples: three of the models above meshed WITHOUT the all-quad fallbacks: one
+# gmsh run (Mesh.Algorithm = 8, Frontal-Delaunay for quads; Mesh.SubdivisionAlgorithm = 0), the
+# 1D mesh as gmsh made it (no extra edge for an even count), and the triangles the recombination
+# leaves kept (VTK cell type 5 next to the quads' 9). Blossom (Mesh.RecombinationAlgorithm = 1)
+# leaves triangles only where the boundary has an odd number of edges, which gmsh avoids on the
+# plates and the wheel; there the simple recombination (Mesh.RecombinationAlgorithm = 0) is used,
+# which leaves triangles wherever it finds no pair. Then the same seeded perturbation, with
+# defects (some inverted faces) of their own, placed at triangles first (perturb's
+# triangles_first).
+MIXED_SAMPLES = [
+    dict(
+        model("plate_2holes"),
+        name="plate_2holes_mixed",
+        what="plate_2holes' plate, quads and triangles (simple recombination)",
+        mixed=dict(algorithm=8, recombination=0), seed=2, defects=[-0.3, 0.1],
+    ),
+    dict(
+        model("patch_notched"),
+        name="patch_notched_mixed",
+        what="patch_notched's patch, quads and triangles (Blossom, odd boundary)",
+        mixed=dict(algorithm=8, recombination=1), seed=55, defects=[-0.2, 0.1],
+    ),
+    dict(
+        model("mazewheel"),
+        name="mazewheel_mixed",
+        what="mazewheel's wheel, quads and triangles (simple recombination)",
+        mixed=dict(algorithm=8, recombination=0), seed=3, defects=[-0.45, -0.2, 0.0, 0.2],
+    ),
+]
+
+
 def make(sample):
-    """Generates one sample: (points, quads, fixed flags or None)."""
-    points, quads = mesh_domain(sample["build"], sample["size"])
+    """Generates one sample: (points, faces, fixed flags or None); faces are quads, and for a
+    quad-dominant sample (`mixed`) triangles too."""
+    if sample.get("mixed"):
+        m = sample["mixed"]
+        points, quads = gmsh_quads(
+            sample["build"], sample["size"], m["algorithm"], recombination=m["recombination"], mixed=True
+        )
+        assert any(len(q) == 3 for q in quads), "no triangle left: not a quad-dominant sample"
+    else:
+        points, quads = mesh_domain(sample["build"], sample["size"])
     n = len(points)
     _, _, bnd = topology(n, quads)
-    assert all(signed_area(points, q) > 0 for q in quads), "mesher produced an invalid quad"
-    p = perturb(points, quads, sample["seed"], sample["jitter"], sample["slide"], sample["defects"])
+    assert all(signed_area(points, q) > 0 for q in quads), "mesher produced an invalid face"
+    p = perturb(points, quads, sample["seed"], sample["jitter"], sample["slide"], sample["defects"],
+                bool(sample.get("mixed")))
     fixed = None
     if sample.get("fixed_outer"):
         outer = set(outer_loop(points, boundary_loops(bnd)))
@@ -532,10 +618,10 @@ def vtk_text(name, points, quads, fixed):
     out = ["# vtk DataFile Version 3.0", f"quadopt sample {name} (tools/make_samples.py)", "ASCII",
            "DATASET UNSTRUCTURED_GRID", f"POINTS {len(points)} double"]
     out += [f"{x!r} {y!r} 0.0" for x, y in points]
-    out.append(f"CELLS {len(quads)} {5 * len(quads)}")
-    out += ["4 " + " ".join(str(v) for v in q) for q in quads]
+    out.append(f"CELLS {len(quads)} {sum(len(q) + 1 for q in quads)}")
+    out += [f"{len(q)} " + " ".join(str(v) for v in q) for q in quads]
     out.append(f"CELL_TYPES {len(quads)}")
-    out += ["9"] * len(quads)
+    out += ["9" if len(q) == 4 else "5" for q in quads]
     if fixed is not None:
         out += [f"POINT_DATA {len(points)}", "SCALARS fixed int 1", "LOOKUP_TABLE default"]
         out += [" ".join(str(f) for f in fixed[i : i + 20]) for i in range(0, len(fixed), 20)]
@@ -544,13 +630,14 @@ def vtk_text(name, points, quads, fixed):
 
 README_HEAD = """# Sample meshes
 
-2D quad meshes with boundaries like the models of the paper's Table 1 (Akram, Si and Chen, 2021),
-with inputs as poor as the paper's: gmsh's quad-dominant recombination of an unstructured
-triangulation, then interior vertices (and vertices on straight boundary segments, along the
-segment only) perturbed with a fixed seed. Legacy VTK ASCII, `UNSTRUCTURED_GRID`, quads (cell
-type 9) counter-clockwise, z = 0, coordinates with round-trip precision. Quality: the signed 2D
-scaled Jacobian (quadopt's); inverted = quads with a value <= 0. Made by tools/make_samples.py,
-which also wrote this file; tests/samples.rs checks every method and boundary mode on all of them.
+2D quad meshes (and quad-dominant ones, below) with boundaries like the models of the paper's
+Table 1 (Akram, Si and Chen, 2021), with inputs as poor as the paper's: gmsh's quad-dominant
+recombination of an unstructured triangulation, then interior vertices (and vertices on straight
+boundary segments, along the segment only) perturbed with a fixed seed. Legacy VTK ASCII,
+`UNSTRUCTURED_GRID`, quads (cell type 9) counter-clockwise, z = 0, coordinates with round-trip
+precision. Quality: the signed 2D scaled Jacobian (quadopt's); inverted = quads with a
+value <= 0. Made by tools/make_samples.py, which also wrote this file; tests/samples.rs
+checks every method and boundary mode on all of them.
 
 Regenerate (deterministic; gmsh pinned in tools/requirements.txt):
 
@@ -560,6 +647,27 @@ Regenerate (deterministic; gmsh pinned in tools/requirements.txt):
 
 | file | what | #V | #F | input min | input avg | inverted |
 | --- | --- | ---: | ---: | ---: | ---: | ---: |
+"""
+
+README_MIXED = """
+## Quad-dominant samples
+
+Quads and triangles (cell types 9 and 5, both counter-clockwise): three of the models above
+meshed by gmsh in one run, without the all-quad fallbacks above (Frontal-Delaunay for quads,
+Mesh.Algorithm = 8; Mesh.SubdivisionAlgorithm = 0; the boundary's edge count left odd where the
+1D mesher made it odd), keeping the triangles the recombination leaves. Blossom
+(Mesh.RecombinationAlgorithm = 1) leaves triangles only where the boundary has an odd number of
+edges, so it is used on patch_notched (33 boundary edges); on the plate and the wheel gmsh makes
+the count even and Blossom gives all quads, so there the simple recombination
+(Mesh.RecombinationAlgorithm = 0) is used. Then the same seeded perturbation as above (a
+triangle's quality: Verdict's triangle scaled Jacobian, quadopt's), with defect targets of their
+own, given first to vertices with a triangle in their star and pushing such a vertex towards the
+far edge of that triangle (so triangles are among the worst faces; mazewheel_mixed has an
+inverted one). #F counts all faces, #tri the triangles among them; min, avg and inverted are
+over all faces.
+
+| file | what | #V | #F | #tri | input min | input avg | inverted |
+| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |
 """
 
 
@@ -588,13 +696,18 @@ def main():
             with open(path, "w") as f:
                 f.write(text)
 
-    for s in SAMPLES:
+    for s in SAMPLES + MIXED_SAMPLES:
+        if s is MIXED_SAMPLES[0]:
+            readme += README_MIXED
         if args.only and s["name"] != args.only:
             continue
         p, q, fixed = make(s)
         lo, avg, hi, inv = stats(p, q)
-        print(f"{s['name']:24} {len(p):5} {len(q):5} {lo:9.4f} {avg:9.4f} {hi:9.4f} {inv:8}")
-        readme += f"| {s['name']}.vtk | {s['what']} | {len(p)} | {len(q)} | {lo:.4f} | {avg:.4f} | {inv} |\n"
+        tri = sum(1 for f in q if len(f) == 3)
+        line = f"{s['name']:24} {len(p):5} {len(q):5} {lo:9.4f} {avg:9.4f} {hi:9.4f} {inv:8}"
+        print(line + (f"  ({tri} triangles)" if tri else ""))
+        counts = f"{len(p)} | {len(q)} | {tri}" if s.get("mixed") else f"{len(p)} | {len(q)}"
+        readme += f"| {s['name']}.vtk | {s['what']} | {counts} | {lo:.4f} | {avg:.4f} | {inv} |\n"
         emit(os.path.join(DATA, s["name"] + ".vtk"), vtk_text(s["name"], p, q, fixed))
     if not args.only:
         emit(os.path.join(DATA, "README.md"), readme)

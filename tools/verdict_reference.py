@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
-"""Reference values of Verdict's quad scaled Jacobian, computed through VTK, for tests/verdict.rs.
+"""Reference values of Verdict's quad and triangle scaled Jacobians (VTK) for tests/verdict.rs.
 
 Usage:  python3 -m venv /tmp/venv && /tmp/venv/bin/pip install vtk
         /tmp/venv/bin/python tools/verdict_reference.py            # writes tests/data/verdict_quads.csv
         /tmp/venv/bin/python tools/verdict_reference.py --check    # only compares with the committed CSV
+        /tmp/venv/bin/python tools/verdict_reference.py --triangles          # verdict_triangles.csv
+        /tmp/venv/bin/python tools/verdict_reference.py --triangles --check
+
+The triangle mode is described in the section "Triangles" at the end of this docstring.
 
 The output is deterministic (fixed seed, no dependence on dict order or time); rerunning the script
 with the same VTK version reproduces the committed file byte for byte. The committed file was made
@@ -76,6 +80,41 @@ other quad, and the exact-cancellation case is covered by ``zero_area`` rows.
 Rows whose classification would depend on roundoff (area within a factor 4 of Verdict's threshold,
 an edge ratio within a factor 4 of 10 * DBL_EPSILON, or a net area that is not clearly nonzero
 relative to the quad's size) are dropped, so every row's rule is unambiguous.
+
+Triangles (``--triangles``, tests/data/verdict_triangles.csv)
+=============================================================
+``vtkMeshQuality`` with ``SetTriangleQualityMeasureToScaledJacobian`` on VTK_TRIANGLE cells calls
+``vtkverdict::tri_scaled_jacobian``. Same seed policy: rerunning reproduces the file byte for byte.
+
+CSV columns: kind, rule, x0,y0,x1,y1,x2,y2 (repr()), verdict_sj, verdict_sj_big (the triangle
+scaled by 2**32 about the origin, exact). ``kind`` is the shape family (equilateral, right,
+right_isosceles, obtuse, needle, cap, nearly_collapsed, degenerate, tiny, huge, random) with a
+``_cw`` suffix when the triangle's exact signed area is negative (given clockwise).
+
+What Verdict computes (VTK 9.7.2, checked on every row by ``tri_model()`` to 1e-13): with
+e0 = p1 - p0, e1 = p2 - p0, e2 = p2 - p1, the Jacobian is |(e1 - e0) x (e2 - e0)| (= |2 * area|,
+UNSIGNED: VTK installs no normal callback, so a clockwise triangle in the plane gets the same
+positive value as its counter-clockwise twin), and the result is that times 2/sqrt(3) divided by
+the largest product of two edge lengths; 0 when that product is below VERDICT_DBL_MIN = 1e-30
+(ABSOLUTE: every triangle with edges shorter than about 1e-15 scores 0). Not clamped: an
+equilateral triangle can give 1.0000000000000002.
+
+quadopt (src/quality.rs, ``triangle_scaled_jacobian``) computes the same ratio SIGNED against +z
+(the mesh normal), clamped to [-1, 1], on edges scaled by a power of two first (scale invariant).
+Rules:
+
+* ``equal``: area > 0 (counter-clockwise): quadopt == Verdict.
+* ``negated``: area < 0 (clockwise): quadopt(t) == -Verdict(t), and quadopt(reversed t) ==
+  Verdict(t). (A triangle has one value, not a minimum over corners, so unlike a quad both hold.)
+* ``zero_area``: exactly zero area (collinear or repeated points): Verdict's value is 0 up to
+  roundoff of its cross product, quadopt's as well (|value| <= 1e-15 for both).
+* ``tiny_area``: nonzero area but largest edge product < 1e-30 / 4: Verdict gives 0; quadopt is
+  scale invariant and gives sign(area) * (Verdict's value for the triangle scaled by 2**32,
+  ``verdict_sj_big``). A deliberate, documented divergence, as for tiny quads.
+
+Rows are dropped when their classification would depend on roundoff: a largest edge product
+within a factor 4 of 1e-30 (at either scale), or a nonzero area below 1e-12 of the largest edge
+product (the sign of the computed cross product could be roundoff).
 """
 
 import argparse
@@ -96,6 +135,8 @@ BIG = 2.0**32
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "tests", "data", "verdict_quads.csv")
+OUT_TRIANGLES = os.path.join(HERE, "..", "tests", "data", "verdict_triangles.csv")
+VERDICT_DBL_MIN = 1.0e-30  # tri_scaled_jacobian's absolute cut-off on the largest edge product
 
 
 # ---------------------------------------------------------------------------------------------
@@ -344,13 +385,199 @@ def final_kind(kind, q):
     return kind + ("_cw" if a2 < 0 else "")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--check", action="store_true", help="compare with the committed CSV instead of writing")
-    ap.add_argument("--out", default=OUT)
-    args = ap.parse_args()
+# ---------------------------------------------------------------------------------------------
+# Triangles (--triangles)
 
-    rng = random.Random(SEED)
+
+def verdict_triangle_values(tris):
+    """Scaled Jacobian of every triangle through vtkMeshQuality (one unstructured grid, one run)."""
+    pts = vtk.vtkPoints()
+    pts.SetDataTypeToDouble()
+    grid = vtk.vtkUnstructuredGrid()
+    for t in tris:
+        ids = vtk.vtkIdList()
+        for x, y in t:
+            ids.InsertNextId(pts.InsertNextPoint(x, y, 0.0))
+        grid.InsertNextCell(vtk.VTK_TRIANGLE, ids)
+    grid.SetPoints(pts)
+    for i, t in enumerate(tris):
+        for j, (x, y) in enumerate(t):
+            assert pts.GetPoint(3 * i + j) == (x, y, 0.0)
+    f = vtk.vtkMeshQuality()
+    f.SetInputData(grid)
+    f.SetTriangleQualityMeasureToScaledJacobian()
+    f.Update()
+    arr = f.GetOutput().GetCellData().GetArray("Quality")
+    return [arr.GetValue(i) for i in range(len(tris))]
+
+
+def tri_exact_area2(t):
+    """Twice the signed area, exactly."""
+    (ax, ay), (bx, by), (cx, cy) = [(Fraction(x), Fraction(y)) for x, y in t]
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+
+
+def tri_max_product2(t):
+    """The square of the largest product of two edge lengths, exactly."""
+    l2 = [exact_len2(t[i], t[(i + 1) % 3]) for i in range(3)]
+    return max(l2[0] * l2[1], l2[1] * l2[2], l2[0] * l2[2])
+
+
+def tri_model(t):
+    """Verdict's tri_scaled_jacobian as described in the docstring, step by step in floats."""
+    a, b, c = t
+    e0 = (b[0] - a[0], b[1] - a[1])
+    e1 = (c[0] - a[0], c[1] - a[1])
+    e2 = (c[0] - b[0], c[1] - b[1])
+    first = (e1[0] - e0[0], e1[1] - e0[1])
+    second = (e2[0] - e0[0], e2[1] - e0[1])
+    jac = abs(first[0] * second[1] - first[1] * second[0])
+    l0, l1, l2 = [math.sqrt(e[0] * e[0] + e[1] * e[1]) for e in (e0, e1, e2)]
+    m = max(l0 * l1, max(l1 * l2, l0 * l2))
+    if m < VERDICT_DBL_MIN:
+        return 0.0
+    return jac * (2.0 / math.sqrt(3.0)) / m
+
+
+def tri_classify(t):
+    """The rule of a triangle, or None when it would depend on roundoff (row dropped)."""
+    a2 = tri_exact_area2(t)
+    if a2 == 0:
+        return "zero_area"
+    m2 = tri_max_product2(t)
+    lo, hi = Fraction(VERDICT_DBL_MIN / 4) ** 2, Fraction(VERDICT_DBL_MIN * 4) ** 2
+    if lo <= m2 <= hi or lo <= m2 * Fraction(BIG) ** 4 <= hi:
+        return None
+    if a2 * a2 < Fraction(1, 10**24) * m2:
+        return None  # |2 area| < 1e-12 * largest product: the computed sign may be roundoff
+    if m2 < lo:
+        return "tiny_area"
+    return "equal" if a2 > 0 else "negated"
+
+
+def tri_build(rng):
+    rows = []  # (kind, triangle)
+
+    def add(kind, t, placements=2, both=True):
+        """Add t (ccw) as given, from another first corner, in a few random placements, and its
+        clockwise twin (given and placed)."""
+        t = [(float(x), float(y)) for x, y in t]
+        rows.append((kind, t))
+        k = 1 + rng.randrange(2)
+        rows.append((kind, t[k:] + t[:k]))
+        for _ in range(placements):
+            rows.append(
+                (
+                    kind,
+                    transform(
+                        t,
+                        rng.uniform(0, 2 * math.pi),
+                        10 ** rng.uniform(-3, 3),
+                        rng.uniform(-50, 50),
+                        rng.uniform(-50, 50),
+                    ),
+                )
+            )
+        if both:
+            rows.append((kind, [t[0], t[2], t[1]]))
+            p = transform(t, rng.uniform(0, 2 * math.pi), 10 ** rng.uniform(-2, 2), rng.uniform(-5, 5), 0.0)
+            rows.append((kind, [p[1], p[0], p[2]]))
+
+    h = math.sqrt(3.0) / 2.0
+    add("equilateral", [(0, 0), (1, 0), (0.5, h)], placements=4)
+    add("equilateral", [(-1, -1), (1, -1), (0, -1 + 2 * h)])
+    add("right_isosceles", [(0, 0), (1, 0), (0, 1)])
+    add("right_isosceles", [(0, 0), (2, 0), (1, 1)])
+    add("right", [(0, 0), (4, 0), (0, 3)])
+    add("right", [(0, 0), (math.sqrt(3.0), 0), (0, 1)])
+    add("right", [(0, 0), (10, 0), (0, 0.1)])
+    for deg in (100, 120, 135, 150, 170, 179):
+        a = math.radians(deg)
+        add("obtuse", [(0, 0), (1, 0), (math.cos(a), math.sin(a))])
+    add("obtuse", [(0, 0), (4, 0), (2, 1)])
+    add("obtuse", [(0, 0), (3, 0), (-1, 0.5)])
+    for e in (1e-2, 1e-4, 1e-6, 1e-9):
+        add("needle", [(0, 0), (1, 0), (0.5, e)], placements=1)  # isosceles sliver, apex angle ~180
+        add("needle", [(0, 0), (1, 0), (1, e)], placements=1)  # one short edge
+        add("needle", [(0, 0), (1, 0), (1 + e, e)], placements=1)  # two long edges, tiny angle
+    for e in (1e-3, 1e-6, 1e-9):
+        add("cap", [(0, 0), (1, 0), (0.3, e)], placements=1)
+    for e in (1e-10, 1e-11, 2**-36):
+        add("nearly_collapsed", [(0, 0), (1, 0), (0.25, e)], placements=1)
+        add("nearly_collapsed", [(0, 0), (1, 0), (3, e)], placements=0)
+    # Exactly zero area: collinear points, repeated points, a single point.
+    for t in (
+        [(0, 0), (1, 0), (2, 0)],
+        [(0, 0), (2, 0), (1, 0)],
+        [(0, 0), (2, 1), (4, 2)],
+        [(0.5, 0.25), (1.5, 0.75), (3.5, 1.75)],
+        [(0, 0), (0, 0), (1, 1)],
+        [(0, 0), (1, 1), (1, 1)],
+        [(2, 2), (2, 2), (2, 2)],
+        [(0, 0), (3, 0), (3, 0)],
+    ):
+        rows.append(("degenerate", [(float(x), float(y)) for x, y in t]))
+    # Tiny triangles (largest edge product < 1e-30): Verdict 0 by its absolute threshold;
+    # dyadic factors keep the shapes exact, and 2**32 brings them above the threshold.
+    shapes = [t for kind, t in rows[:60] if kind in ("equilateral", "right_isosceles", "right", "obtuse")]
+    for t in rng.sample(shapes, 12):
+        k = rng.choice([-56, -60, -64, -70])
+        rows.append(("tiny", [(math.ldexp(x, k), math.ldexp(y, k)) for x, y in t]))
+    rows.append(("tiny", [(1.0, 1.0), (1.0 + 2**-52, 1.0), (1.0, 1.0 + 2**-52)]))
+    # Huge coordinates: nothing overflows in Verdict below about 1e150.
+    for t in rng.sample(shapes, 6):
+        k = rng.choice([100, 200, 300])
+        rows.append(("huge", [(math.ldexp(x, k), math.ldexp(y, k)) for x, y in t]))
+    # Random triangles, both orientations as they come.
+    for _ in range(150):
+        t = [(rng.uniform(-1, 1), rng.uniform(-1, 1)) for _ in range(3)]
+        t = transform(t, 0.0, 10 ** rng.uniform(-4, 4), rng.uniform(-100, 100), rng.uniform(-100, 100))
+        rows.append(("random", t))
+    return rows
+
+
+def triangle_csv(rng):
+    """The triangle reference CSV's text and a one-line summary."""
+    rows = []
+    dropped = 0
+    for kind, t in tri_build(rng):
+        rule = tri_classify(t)
+        if rule is None:
+            print(f"dropped (ambiguous): {kind} {t}")
+            dropped += 1
+            continue
+        a2 = tri_exact_area2(t)
+        rows.append((kind + ("_cw" if a2 < 0 else ""), rule, t))
+
+    tris = [t for _, _, t in rows]
+    values = verdict_triangle_values(tris)
+    big = verdict_triangle_values([[(x * BIG, y * BIG) for x, y in t] for t in tris])
+
+    for i, ((kind, rule, t), v, b) in enumerate(zip(rows, values, big)):
+        m = tri_model(t)
+        if not abs(m - v) <= 1e-13 * max(1.0, abs(v)):
+            sys.exit(f"row {i} ({kind}, {rule}): model {m!r} != vtk {v!r} for {t}")
+        if v < 0.0:
+            sys.exit(f"row {i} ({kind}, {rule}): vtk gave {v!r} < 0, the docstring says unsigned")
+        if rule == "zero_area" and not (v <= 1e-15 and b <= 1e-15):
+            sys.exit(f"row {i} ({kind}, {rule}): vtk gave {v!r}, {b!r}, expected 0")
+        if rule == "tiny_area" and not (v == 0.0 and b > 0.0):
+            sys.exit(f"row {i} ({kind}, {rule}): vtk gave {v!r}, {b!r}, expected 0 and > 0")
+
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["kind", "rule", "x0", "y0", "x1", "y1", "x2", "y2", "verdict_sj", "verdict_sj_big"])
+    for (kind, rule, t), v, b in zip(rows, values, big):
+        w.writerow([kind, rule] + [repr(c) for p in t for c in p] + [repr(v), repr(b)])
+    counts = {}
+    for _, rule, _ in rows:
+        counts[rule] = counts.get(rule, 0) + 1
+    summary = f"{len(rows)} triangles ({dropped} ambiguous dropped), vtk {vtk.vtkVersion.GetVTKVersion()}: {counts}"
+    return buf.getvalue(), summary
+
+
+def quad_csv(rng):
+    """The quad reference CSV's text and a one-line summary."""
     rows = []
     dropped = 0
     for kind, q in build(rng):
@@ -381,12 +608,25 @@ def main():
     w.writerow(["kind", "rule", "x0", "y0", "x1", "y1", "x2", "y2", "x3", "y3", "verdict_sj", "verdict_sj_big"])
     for (kind, rule, q), v, b in zip(rows, values, big):
         w.writerow([kind, rule] + [repr(c) for p in q for c in p] + [repr(v), repr(b)])
-    text = buf.getvalue()
-
     counts = {}
     for _, rule, _ in rows:
         counts[rule] = counts.get(rule, 0) + 1
-    print(f"{len(rows)} rows ({dropped} ambiguous dropped), vtk {vtk.vtkVersion.GetVTKVersion()}: {counts}")
+    summary = f"{len(rows)} rows ({dropped} ambiguous dropped), vtk {vtk.vtkVersion.GetVTKVersion()}: {counts}"
+    return buf.getvalue(), summary
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--check", action="store_true", help="compare with the committed CSV instead of writing")
+    ap.add_argument("--triangles", action="store_true", help="triangles (verdict_triangles.csv) instead of quads")
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    if args.out is None:
+        args.out = OUT_TRIANGLES if args.triangles else OUT
+
+    rng = random.Random(SEED)
+    text, summary = (triangle_csv if args.triangles else quad_csv)(rng)
+    print(summary)
     if args.check:
         with open(args.out) as f:
             if f.read() != text:

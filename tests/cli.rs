@@ -323,7 +323,7 @@ fn reports_name_paths_as_the_user_gave_them() {
     // The sample report run from the project's root (as the README shows it) names `data`.
     let out = run(&[]);
     let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(stdout.starts_with("quadopt: 12 meshes in data, "), "{stdout}");
+    assert!(stdout.starts_with("quadopt: 15 meshes in data, "), "{stdout}");
     assert!(!stdout.contains(absolute), "{stdout}");
     // Relative input and output paths stay relative in text and JSON reports.
     let target = std::env::temp_dir().join(format!("quadopt-paths-{}.vtk", std::process::id()));
@@ -836,4 +836,290 @@ fn fix_physical_pins_exactly_the_nodes_of_the_named_groups() {
         Some(&out_path),
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// Quad-dominant meshes (quads and triangles) through every command.
+
+/// A unit square (quad 0) with an equilateral triangle on its right edge (scaled Jacobian 1)
+/// and a right isosceles triangle on its top edge (sin 45 degrees * 2 / sqrt(3) = sqrt(2/3)),
+/// as OBJ text; with `fold`, the equilateral triangle's apex is pulled into the square, which
+/// inverts that triangle.
+fn square_and_two_triangles(fold: bool) -> String {
+    let apex = if fold { "0.5 0.5".to_string() } else { format!("{} 0.5", 1.0 + 3f64.sqrt() / 2.0) };
+    format!("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv {apex} 0\nv 0 2 0\nf 1 2 3 4\nf 2 5 3\nf 4 3 6\n")
+}
+
+/// The right isosceles triangle's scaled Jacobian.
+fn right_isosceles() -> f64 {
+    (2.0f64 / 3.0).sqrt()
+}
+
+fn close(v: &Value, want: f64) -> bool {
+    v.as_f64().is_some_and(|x| (x - want).abs() < 1e-12)
+}
+
+#[test]
+fn quality_reports_each_face_kind_of_a_mixed_mesh() {
+    let dir = scratch("mixed-quality");
+    let input = file_with(&dir, "mixed.obj", square_and_two_triangles(false).as_bytes());
+    let v = json_stdout(&quadopt(&["quality", s(&input), "--json"]));
+    let t = right_isosceles();
+    assert_eq!(
+        (v["faces"].as_u64(), v["quads"].as_u64(), v["triangles"].as_u64()),
+        (Some(3), Some(1), Some(2))
+    );
+    assert!(close(&v["min"], t) && close(&v["avg"], (2.0 + t) / 3.0) && close(&v["max"], 1.0), "{v}");
+    let quads = &v["by_kind"]["quads"];
+    assert_eq!((quads["count"].as_u64(), quads["inverted"].as_u64()), (Some(1), Some(0)));
+    assert!(close(&quads["min"], 1.0) && close(&quads["avg"], 1.0) && close(&quads["max"], 1.0), "{v}");
+    let triangles = &v["by_kind"]["triangles"];
+    assert_eq!((triangles["count"].as_u64(), triangles["inverted"].as_u64()), (Some(2), Some(0)));
+    assert!(close(&triangles["min"], t) && close(&triangles["avg"], (1.0 + t) / 2.0), "{v}");
+    assert!(close(&triangles["max"], 1.0), "{v}");
+    // The histogram counts every face: sqrt(2/3) = 0.816 in (0.8, 0.9], the others in (0.9, 1].
+    assert_eq!(v["histogram"], serde_json::json!([0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 2]));
+
+    let out = quadopt(&["quality", s(&input)]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("6 vertices, 3 faces (1 quad, 2 triangles)"), "{text}");
+    assert!(text.contains("scaled Jacobian: min 0.8165, avg 0.9388, max 1.0000; 0 inverted"), "{text}");
+    assert!(text.contains("  quads           1: min 1.0000, avg 1.0000, max 1.0000; 0 inverted"), "{text}");
+    assert!(text.contains("  triangles       2: min 0.8165, avg 0.9082, max 1.0000; 0 inverted"), "{text}");
+
+    // A quad mesh has no per-kind key and no per-kind line, and says "quads".
+    let grid = dir.join("grid.obj");
+    io::write_mesh(&grid, &jittered_grid(4)).unwrap();
+    let v = json_stdout(&quadopt(&["quality", s(&grid), "--json"]));
+    for key in ["faces", "triangles", "by_kind"] {
+        assert!(v.get(key).is_none(), "{key} in {v}");
+    }
+    assert_eq!(v["quads"].as_u64(), Some(16));
+    let text = String::from_utf8(quadopt(&["quality", s(&grid)]).stdout).unwrap();
+    assert!(text.contains(": 25 vertices, 16 quads\n") && !text.contains("triangles"), "{text}");
+
+    // An inverted triangle is counted as inverted, in its kind and overall.
+    let folded = file_with(&dir, "folded.obj", square_and_two_triangles(true).as_bytes());
+    let v = json_stdout(&quadopt(&["quality", s(&folded), "--json"]));
+    assert_eq!(v["inverted"].as_u64(), Some(1), "{v}");
+    assert_eq!(v["by_kind"]["triangles"]["inverted"].as_u64(), Some(1), "{v}");
+    assert_eq!(v["by_kind"]["quads"]["inverted"].as_u64(), Some(0), "{v}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A 4 x 4 grid with its interior jittered, every other cell of its first row split into two
+/// triangles: a mixed mesh worth optimizing.
+fn jittered_mixed_grid() -> String {
+    let mesh = jittered_grid(4);
+    let mut text = String::new();
+    for p in &mesh.points {
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for (i, q) in mesh.quads.iter().enumerate() {
+        let [a, b, c, d] = q.map(|v| v + 1);
+        if i < 4 && i % 2 == 0 {
+            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        } else {
+            text += &format!("f {a} {b} {c} {d}\n");
+        }
+    }
+    text
+}
+
+#[test]
+fn optimize_and_compare_report_each_face_kind_of_a_mixed_mesh() {
+    let dir = scratch("mixed-optimize");
+    let input = file_with(&dir, "mixed.obj", jittered_mixed_grid().as_bytes());
+    let output = dir.join("out.vtk");
+    let before = json_stdout(&quadopt(&["quality", s(&input), "--json"]));
+    assert_eq!((before["quads"].as_u64(), before["triangles"].as_u64()), (Some(14), Some(4)));
+    let v =
+        json_stdout(&quadopt(&["optimize", s(&input), "-o", s(&output), "--boundary", "fixed", "--json"]));
+    assert_eq!(
+        (v["faces"].as_u64(), v["quads"].as_u64(), v["triangles"].as_u64()),
+        (Some(18), Some(14), Some(4))
+    );
+    // The input's statistics per kind are those `quality` measures; the output's those of the
+    // file written.
+    assert_eq!(v["input_by_kind"], before["by_kind"]);
+    let after = json_stdout(&quadopt(&["quality", s(&output), "--json"]));
+    assert_eq!(v["output_by_kind"], after["by_kind"]);
+    assert_eq!(after["triangles"].as_u64(), Some(4));
+    for kind in ["quads", "triangles"] {
+        let (i, o) = (&v["input_by_kind"][kind], &v["output_by_kind"][kind]);
+        assert!(o["inverted"].as_u64() <= i["inverted"].as_u64(), "{kind}: {v}");
+    }
+    assert!(v["input"]["inverted"].as_u64().unwrap() > 0, "{v}");
+    assert_eq!(v["output"]["inverted"].as_u64(), Some(0), "{v}");
+
+    // The text report: the face counts, and a row per kind under the input's and the output's.
+    let out = quadopt(&["optimize", s(&input), "-o", s(&output), "--boundary", "fixed"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("25 vertices, 18 faces (14 quads, 4 triangles)"), "{text}");
+    let rows: Vec<&str> = text.lines().map(|l| l.split_whitespace().next().unwrap_or("")).collect();
+    let at = |name: &str| rows.iter().position(|r| *r == name).unwrap();
+    assert_eq!(&rows[at("input")..at("input") + 3], ["input", "quads", "triangles"], "{text}");
+    assert_eq!(&rows[at("output")..at("output") + 3], ["output", "quads", "triangles"], "{text}");
+    let row = |i: usize| text.lines().nth(i).unwrap().split_whitespace().skip(1).collect::<Vec<_>>();
+    let fmt = |s: &Value| format!("{:.4}", s.as_f64().unwrap());
+    let triangles = &v["output_by_kind"]["triangles"];
+    assert_eq!(row(at("output") + 2)[..2], [fmt(&triangles["min"]), fmt(&triangles["avg"])], "{text}");
+    assert!(text.contains("faces reoriented"), "{text}");
+
+    // compare: the per-kind rows under the mesh's, and per-kind JSON for each run.
+    let out = quadopt(&["compare", s(&input), "--effort", "fast"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 4, "{text}");
+    assert!(
+        lines[2].trim_start().starts_with("14 quads") && lines[3].trim_start().starts_with("4 triangles")
+    );
+    let pair = |s: &Value| format!("{:.3}/{:.3}", s["min"].as_f64().unwrap(), s["avg"].as_f64().unwrap());
+    assert_eq!(lines[3].split_whitespace().nth(2), Some(pair(&before["by_kind"]["triangles"]).as_str()));
+    let c = json_stdout(&quadopt(&["compare", s(&input), "--effort", "fast", "--json"]));
+    let mesh = &c["meshes"][0];
+    assert_eq!(mesh["input_by_kind"], before["by_kind"]);
+    let runs = mesh["results"].as_array().unwrap();
+    assert_eq!(runs.len(), 7);
+    for r in runs {
+        assert_eq!(r["output_by_kind"]["triangles"]["count"].as_u64(), Some(4), "{r}");
+        assert_eq!(r["output_by_kind"]["quads"]["count"].as_u64(), Some(14), "{r}");
+    }
+    // A quad mesh's compare JSON has no per-kind key.
+    let grid = dir.join("grid.obj");
+    io::write_mesh(&grid, &jittered_grid(4)).unwrap();
+    let c = json_stdout(&quadopt(&["compare", s(&grid), "--effort", "fast", "--json"]));
+    assert!(c["meshes"][0].get("input_by_kind").is_none() && c["meshes"][0].get("triangles").is_none());
+    assert!(c["meshes"][0]["results"][0].get("output_by_kind").is_none());
+    let v = json_stdout(&quadopt(&["optimize", s(&grid), "-o", s(&output), "--json"]));
+    for key in ["faces", "triangles", "input_by_kind", "output_by_kind"] {
+        assert!(v.get(key).is_none(), "{key} in {v}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The mesh paths of an SVG (`<path d="...Z" fill=...>`, not the marks), as their corner counts
+/// and tooltips.
+fn svg_faces(svg: &str) -> Vec<(usize, String)> {
+    svg.lines()
+        .filter(|l| l.starts_with("<path d=\"M"))
+        .map(|l| {
+            let d = &l[l.find("d=\"").unwrap() + 3..l.find('Z').unwrap()];
+            let tooltip = l.split("<title>").nth(1).unwrap().split('<').next().unwrap().to_string();
+            (d.split_whitespace().count(), tooltip)
+        })
+        .collect()
+}
+
+#[test]
+fn pictures_draw_triangles_as_triangles() {
+    let dir = scratch("mixed-draw");
+    let input = file_with(&dir, "mixed.obj", square_and_two_triangles(false).as_bytes());
+    let svg = dir.join("mixed.svg");
+    let out = quadopt(&["draw", s(&input), "-o", s(&svg)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let mut faces = svg_faces(&text);
+    faces.sort();
+    let t = format!("{:.4}", right_isosceles());
+    assert_eq!(faces, [(3, t), (3, "1.0000".to_string()), (4, "1.0000".to_string())], "{text}");
+    // The title has each kind's min and avg.
+    assert!(text.contains("min/avg quads 1.000/1.000, triangles 0.816/0.908"), "{text}");
+
+    // An inverted triangle is marked by a three-cornered outline (and hatched).
+    let folded = file_with(&dir, "folded.obj", square_and_two_triangles(true).as_bytes());
+    assert!(quadopt(&["draw", s(&folded), "-o", s(&svg)]).status.success());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let marks: Vec<&str> =
+        text.lines().filter(|l| l.contains("class=\"inverted\"") && l.contains("<title>")).collect();
+    assert_eq!(marks.len(), 1, "{text}");
+    let d = marks[0].split("d=\"").nth(1).unwrap();
+    let (outline, hatch) = d.split_once('Z').unwrap();
+    assert_eq!(outline.split_whitespace().count(), 3, "{d}");
+    assert!(hatch.contains('M'), "{d}");
+
+    // Before and after: the histogram counts faces; PNG too.
+    let both = dir.join("both.svg");
+    let out = quadopt(&["draw", s(&folded), "--before-after", "--boundary", "fixed", "-o", s(&both)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&both).unwrap();
+    assert!(text.contains("share of faces") && !text.contains("share of quads"), "{text}");
+    assert!(text.contains("triangles: min "), "{text}");
+    assert_eq!(svg_faces(&text).iter().filter(|(n, _)| *n == 3).count(), 4, "two triangles a panel");
+    let png = dir.join("both.png");
+    assert!(quadopt(&["draw", s(&folded), "--before-after", "-o", s(&png)]).status.success());
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn generate_makes_quad_dominant_meshes() {
+    let dir = scratch("generate-mixed");
+    let path = dir.join("mixed.vtk");
+    let out = quadopt(&[
+        "generate",
+        "-o",
+        s(&path),
+        "--nx",
+        "20",
+        "--ny",
+        "20",
+        "--holes",
+        "0",
+        "--triangles",
+        "0.25",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("441 vertices, 500 faces (300 quads, 200 triangles)"), "{text}");
+    // A quarter of the 400 quads, each split in two.
+    let mesh = io::read_mesh(&path).unwrap();
+    let triangles = mesh.quads.iter().filter(|f| quadopt::face::is_triangle(f)).count();
+    assert_eq!((mesh.points.len(), mesh.quads.len() - triangles, triangles), (441, 300, 200));
+    // --triangles 0 is the quad mesh, byte for byte; 1 splits every quad.
+    let (plain, zero, all) = (dir.join("plain.vtk"), dir.join("zero.vtk"), dir.join("all.vtk"));
+    assert!(quadopt(&["generate", "-o", s(&plain), "--quads", "300"]).status.success());
+    assert!(quadopt(&["generate", "-o", s(&zero), "--quads", "300", "--triangles", "0"]).status.success());
+    assert_eq!(std::fs::read(&plain).unwrap(), std::fs::read(&zero).unwrap());
+    assert!(quadopt(&["generate", "-o", s(&all), "--quads", "300", "--triangles", "1"]).status.success());
+    let (q, a) = (io::read_mesh(&plain).unwrap(), io::read_mesh(&all).unwrap());
+    assert!(a.quads.iter().all(quadopt::face::is_triangle));
+    assert_eq!(a.quads.len(), 2 * q.quads.len());
+    // Outside [0, 1]: a usage error, nothing written.
+    let bad = dir.join("bad.vtk");
+    for f in ["1.5", "-0.1", "nan"] {
+        fails(&["generate", "-o", s(&bad), "--triangles", f], 2, "is not in [0, 1]", Some(&bad));
+    }
+    fails(&["generate", "-o", s(&bad), "--triangles", "half"], 2, "--triangles", Some(&bad));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_sample_report_has_a_row_per_face_kind_under_each_mixed_mesh() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let out = quadopt(&[]);
+    if !out.status.success() {
+        return; // no bundled meshes: `no_arguments_reports_on_the_bundled_meshes` checks why
+    }
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().skip(2).collect();
+    let mut i = 0;
+    while i < lines.len() {
+        let cols: Vec<&str> = lines[i].split_whitespace().collect();
+        let mesh = io::read_mesh(data.join(cols[0])).unwrap();
+        let triangles = mesh.quads.iter().filter(|f| quadopt::face::is_triangle(f)).count();
+        assert_eq!(cols[2].parse::<usize>().unwrap(), mesh.quads.len(), "{}", lines[i]);
+        i += 1;
+        if triangles == 0 {
+            assert!(lines.get(i).is_none_or(|l| !l.starts_with(' ')), "{text}");
+            continue;
+        }
+        let kinds: Vec<Vec<&str>> = lines[i..i + 2].iter().map(|l| l.split_whitespace().collect()).collect();
+        assert_eq!((kinds[0][0], kinds[1][0]), ("quads", "triangles"), "{text}");
+        assert_eq!(kinds[0][1].parse::<usize>().unwrap(), mesh.quads.len() - triangles, "{text}");
+        assert_eq!(kinds[1][1].parse::<usize>().unwrap(), triangles, "{text}");
+        i += 2;
+    }
 }

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[command(
     name = "quadopt",
     version = openmesh_io::VERSION,
-    about = "Quality optimizer for 2D quad meshes (embedded polygon method)"
+    about = "Quality optimizer for 2D quad and quad-dominant meshes (embedded polygon method)"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -75,6 +75,10 @@ fn parse_encoding(s: &str) -> Result<io::Encoding, String> {
 #[derive(Subcommand)]
 pub enum Command {
     /// Optimize a mesh and write the result.
+    ///
+    /// The mesh may have triangles besides its quads; the report then adds the statistics of
+    /// each face kind, input and output (JSON: "faces", "triangles", "input_by_kind",
+    /// "output_by_kind").
     Optimize {
         #[arg(help = openmesh_io::INPUT_HELP)]
         input: PathBuf,
@@ -96,11 +100,14 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Print the quality of a mesh.
+    /// Print the quality of a mesh, and of each face kind when it has triangles.
+    ///
+    /// For a mesh with triangles, the report adds the count, min, avg, max and inverted count
+    /// of its quads and of its triangles (JSON: "faces", "triangles" and "by_kind").
     Quality {
         /// Input mesh.
         input: PathBuf,
-        /// Also write the mesh with its per-quad scaled Jacobian as cell data and its fixed
+        /// Also write the mesh with its per-face scaled Jacobian as cell data and its fixed
         /// and corner flags as point data (VTK, MSH); `-` writes to stdout.
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -114,6 +121,9 @@ pub enum Command {
         json: bool,
     },
     /// Compare every method (fixed boundary) and the boundary modes of ep, per mesh.
+    ///
+    /// A mesh with triangles gets a row for its quads and one for its triangles under its own
+    /// (JSON: "input_by_kind", and "output_by_kind" in each result).
     Compare {
         /// Input meshes.
         #[arg(required = true)]
@@ -124,7 +134,10 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Draw a mesh as PNG or SVG (by extension), quads coloured by scaled Jacobian.
+    /// Draw a mesh as PNG or SVG (by extension), faces coloured by scaled Jacobian.
+    ///
+    /// Quads and triangles alike are filled with the colour of their scaled Jacobian; inverted
+    /// faces are outlined and hatched.
     Draw {
         /// Input mesh.
         input: PathBuf,
@@ -141,7 +154,8 @@ pub enum Command {
         #[command(flatten)]
         opts: OptArgs,
     },
-    /// Write a synthetic benchmark mesh: a grid with circular holes and jittered interior vertices.
+    /// Write a synthetic benchmark mesh: a grid with circular holes and jittered interior
+    /// vertices (quad-dominant with --triangles)
     Generate {
         /// Output mesh (format from its extension); `-` writes to stdout (needs --format).
         #[arg(short, long)]
@@ -149,7 +163,8 @@ pub enum Command {
         /// Output format, whatever the output's name: obj, off, vtk, msh or vtu.
         #[arg(long, value_parser = parse_format)]
         format: Option<Format>,
-        /// Approximate number of quads of a square grid (overrides --nx and --ny).
+        /// Approximate number of quads of a square grid, before any split (overrides --nx and
+        /// --ny).
         #[arg(long)]
         quads: Option<usize>,
         /// Cells along x.
@@ -171,6 +186,10 @@ pub enum Command {
         /// Seed of the perturbation.
         #[arg(long, default_value_t = Synthetic::default().seed)]
         seed: u64,
+        /// Fraction of the quads split along a diagonal into two triangles, in [0, 1]: a
+        /// quad-dominant mesh (the quads chosen by --seed; 0 keeps every quad).
+        #[arg(long, value_name = "FRACTION", default_value_t = 0.0, allow_negative_numbers = true)]
+        triangles: f64,
     },
 }
 
@@ -217,10 +236,10 @@ pub struct TuneArgs {
     /// Floor of the guarded moves, in (0, 1].
     #[arg(long, default_value_t = Options::default().guard_floor, allow_negative_numbers = true)]
     guard_floor: f64,
-    /// Do not untangle inverted quads before smoothing.
+    /// Do not untangle inverted faces before smoothing.
     #[arg(long)]
     no_untangle: bool,
-    /// Skip the max-min stage (which raises the worst quad after the sweeps).
+    /// Skip the max-min stage (which raises the worst face after the sweeps).
     #[arg(long)]
     no_maxmin: bool,
     /// Stopping rule: quality (the default: stop once the inverted count, minimum and average

@@ -1,4 +1,5 @@
-//! `quadopt`: improve the quality of 2D quad meshes from the command line.
+//! `quadopt`: improve the quality of 2D quad and quad-dominant (quads and triangles) meshes
+//! from the command line.
 //!
 //! - `quadopt` with no arguments optimizes every mesh in the bundled `data/` directory and
 //!   prints a report like the paper's Table 1.
@@ -74,12 +75,23 @@ fn dispatch(command: Option<Command>) -> Result<(), Fail> {
             };
             commands::draw(&input, &output, what, &opts)
         }
-        Some(Command::Generate { output, format, quads, nx, ny, holes, hole_size, jitter, seed }) => {
+        Some(Command::Generate {
+            output,
+            format,
+            quads,
+            nx,
+            ny,
+            holes,
+            hole_size,
+            jitter,
+            seed,
+            triangles,
+        }) => {
             let spec = match quads {
                 Some(n) => Synthetic { holes, hole_size, jitter, seed, ..Synthetic::with_quads(n) },
                 None => Synthetic { nx, ny, holes, hole_size, jitter, seed },
             };
-            commands::generate(&output, format, &spec)
+            commands::generate(&output, format, &spec, triangles)
         }
     }
 }

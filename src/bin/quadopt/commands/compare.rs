@@ -3,10 +3,12 @@
 
 use crate::cli::TuneArgs;
 use crate::fail::Fail;
-use crate::json::stats_json;
+use crate::json::{by_kind_json, stats_json};
 use crate::mesh_files::{Loaded, load};
+use crate::plural::count;
 use crate::progress::run;
-use quadopt::{BoundaryMode, Method, Optimizer, Options};
+use quadopt::quality::ByFaceKind;
+use quadopt::{BoundaryMode, Method, Optimizer, Options, QualityStats};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -33,25 +35,38 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
             let mut mesh = planar.mesh.clone();
             results.push(run(&optimizer, &mut mesh, options, !as_json)?);
         }
-        rows.push((input, data.points.len(), data.quads.len(), planar.mesh.quality(), results));
+        let kinds = planar.mesh.quality_by_face_kind();
+        rows.push((input, data.points.len(), kinds, planar.mesh.quality(), results));
     }
     if as_json {
         let meshes: Vec<Value> = rows
             .iter()
-            .map(|(input, nv, nq, q, results)| {
+            .map(|(input, nv, kinds, q, results)| {
+                // Per face kind only for a mesh with triangles: a quad mesh's report is as it was.
+                let mixed = kinds.triangle_count > 0;
                 let runs: Vec<Value> = results
                     .iter()
                     .zip(&configs)
                     .map(|(r, o)| {
-                        json!({
+                        let mut run = json!({
                             "method": o.method.name(), "boundary": o.boundary.name(),
                             "output": stats_json(&r.output), "iterations": r.iterations,
                             "seconds": r.seconds, "converged": r.converged,
-                        })
+                        });
+                        if mixed {
+                            run["output_by_kind"] = by_kind_json(&r.output_by_kind);
+                        }
+                        run
                     })
                     .collect();
-                json!({ "file": input.display().to_string(), "vertices": nv, "quads": nq,
-                        "input": stats_json(q), "results": runs })
+                let mut mesh = json!({ "file": input.display().to_string(), "vertices": nv,
+                        "quads": kinds.quad_count, "input": stats_json(q), "results": runs });
+                if mixed {
+                    mesh["triangles"] = json!(kinds.triangle_count);
+                    mesh["faces"] = json!(kinds.quad_count + kinds.triangle_count);
+                    mesh["input_by_kind"] = by_kind_json(kinds);
+                }
+                mesh
             })
             .collect();
         outln!("{}", json!({ "meshes": meshes }));
@@ -62,13 +77,31 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
         out!(" {:>15}", format!("{}/{}", o.method.name(), o.boundary.name()));
     }
     outln!();
-    for (input, _, _, q, results) in &rows {
+    let pair = |s: Option<QualityStats>| s.map_or("-".to_string(), |s| format!("{:.3}/{:.3}", s.min, s.avg));
+    for (input, _, kinds, q, results) in &rows {
         let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        out!("{name:24} {:>15}", format!("{:.3}/{:.3}", q.min, q.avg));
+        out!("{name:24} {:>15}", pair(Some(*q)));
         for r in results {
-            out!(" {:>15}", format!("{:.3}/{:.3}", r.output.min, r.output.avg));
+            out!(" {:>15}", pair(Some(r.output)));
         }
         outln!();
+        // A mesh with triangles: a row per face kind under the mesh's.
+        if kinds.triangle_count > 0 {
+            let by_kind: [(String, KindStats); 2] = [
+                (format!("  {}", count(kinds.quad_count, "quad", "quads")), |k| k.quads),
+                (format!("  {}", count(kinds.triangle_count, "triangle", "triangles")), |k| k.triangles),
+            ];
+            for (label, stats) in by_kind {
+                out!("{label:24} {:>15}", pair(stats(kinds)));
+                for r in results {
+                    out!(" {:>15}", pair(stats(&r.output_by_kind)));
+                }
+                outln!();
+            }
+        }
     }
     Ok(())
 }
+
+/// One face kind's statistics out of a [`ByFaceKind`].
+type KindStats = fn(&ByFaceKind) -> Option<QualityStats>;

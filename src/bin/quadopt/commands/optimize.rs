@@ -4,11 +4,11 @@
 use crate::annotation::{annotate, corner_flags};
 use crate::cli::{EncodingArgs, OptArgs};
 use crate::fail::Fail;
-use crate::json::{report_json, stats_json};
+use crate::json::{by_kind_json, report_json, stats_json};
 use crate::mesh_files::{Loaded, MeshWriter, load};
 use crate::picture;
 use crate::picture_files::{PictureFormat, write_picture};
-use crate::plural::count;
+use crate::plural::{count, face_words, faces};
 use crate::progress::run;
 use crate::stdout::{is_stdout, report_on_stderr_if_written_to_stdout};
 use quadopt::io::Format;
@@ -63,6 +63,7 @@ pub fn optimize(
     encoding.apply(&mut data);
     writer.write(output, &data)?;
     report_on_stderr_if_written_to_stdout(output);
+    let mixed = report.output_by_kind.triangle_count > 0;
     if as_json {
         let mut v = json!({
             "input": stats_json(&report.input),
@@ -77,10 +78,17 @@ pub fn optimize(
             "method": options.method.name(),
             "boundary": options.boundary.name(),
             "vertices": data.points.len(),
-            "quads": data.quads.len(),
+            "quads": report.output_by_kind.quad_count,
             "input_file": input.display().to_string(),
             "output_file": output.display().to_string(),
         });
+        // Per face kind only for a mesh with triangles: a quad mesh's report is as it was.
+        if mixed {
+            v["triangles"] = json!(report.output_by_kind.triangle_count);
+            v["faces"] = json!(data.quads.len());
+            v["input_by_kind"] = by_kind_json(&report.input_by_kind);
+            v["output_by_kind"] = by_kind_json(&report.output_by_kind);
+        }
         if let Some(path) = picture {
             v["picture_file"] = json!(path.display().to_string());
         }
@@ -94,7 +102,7 @@ pub fn optimize(
         "{}: {}, {}",
         input.display(),
         count(data.points.len(), "vertex", "vertices"),
-        count(data.quads.len(), "quad", "quads")
+        faces(report.output_by_kind.quad_count, report.output_by_kind.triangle_count)
     );
     outln!(
         "method {}, boundary {}, effort {}",
@@ -102,10 +110,28 @@ pub fn optimize(
         options.boundary.name(),
         report.effort
     );
-    outln!("{:8} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
-    let sweeps = report.max_min.map(|g| ("sweeps", g.before));
-    for (name, s) in [("input", report.input)].into_iter().chain(sweeps).chain([("output", report.output)]) {
-        outln!("{name:8} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
+    // A mesh with triangles has a row per face kind under the input's and the output's, and a
+    // wider first column for their names.
+    let w = if mixed { 11 } else { 8 };
+    outln!("{:w$} {:>9} {:>9} {:>9} {:>9}", "", "min", "avg", "max", "inverted");
+    let sweeps = report.max_min.map(|g| ("sweeps", g.before, None));
+    let rows = [("input", report.input, Some(&report.input_by_kind))].into_iter().chain(sweeps).chain([(
+        "output",
+        report.output,
+        Some(&report.output_by_kind),
+    )]);
+    for (name, s, kinds) in rows {
+        outln!("{name:w$} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted);
+        if let Some(k) = kinds.filter(|_| mixed) {
+            for (kind, s) in [("  quads", k.quads), ("  triangles", k.triangles)] {
+                match s {
+                    Some(s) => {
+                        outln!("{kind:w$} {:>9.4} {:>9.4} {:>9.4} {:>9}", s.min, s.avg, s.max, s.inverted)
+                    }
+                    None => outln!("{kind:w$} {:>9} {:>9} {:>9} {:>9}", "-", "-", "-", 0),
+                }
+            }
+        }
     }
     outln!(
         "{} ({}), {:.3} s; {}, {}, {moved} moved, {} reoriented",
@@ -114,7 +140,7 @@ pub fn optimize(
         report.seconds,
         count(report.corners, "corner", "corners"),
         count(report.movable, "movable vertex", "movable vertices"),
-        count(report.reoriented_quads, "quad", "quads")
+        count(report.reoriented_quads, face_words(mixed).0, face_words(mixed).1)
     );
     let f = &report.fidelity;
     let modes: Vec<&str> = report.loop_modes.iter().map(|m| m.name()).collect();
@@ -126,7 +152,7 @@ pub fn optimize(
         f.hausdorff,
         f.hausdorff_relative
     );
-    print_tangled(&report);
+    print_tangled(&report, mixed);
     if let Some(path) = picture {
         outln!("wrote the picture {}", path.display());
     }
@@ -138,13 +164,15 @@ pub fn optimize(
     Ok(())
 }
 
-/// One line per quad still inverted, with the reason.
-fn print_tangled(r: &Report) {
+/// One line per face still inverted, with the reason ("quad" for a pure quad mesh, "face" for
+/// a mesh with triangles).
+fn print_tangled(r: &Report, mixed: bool) {
+    let (one, _) = face_words(mixed);
     if !r.tangled.is_empty() {
-        outln!("still inverted (quad numbers are 0-based):");
+        outln!("still inverted ({one} numbers are 0-based):");
     }
     for t in r.tangled.iter().take(20) {
-        outln!("  quad {}: {}", t.quad, t.reason.describe());
+        outln!("  {one} {}: {}", t.quad, t.reason.describe());
     }
     if r.tangled.len() > 20 {
         outln!("  ... and {} more", r.tangled.len() - 20);

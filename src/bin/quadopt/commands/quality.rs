@@ -4,12 +4,13 @@
 use crate::annotation::{annotate, corner_flags};
 use crate::cli::EncodingArgs;
 use crate::fail::Fail;
-use crate::json::stats_json;
+use crate::json::{by_kind_json, stats_json};
 use crate::mesh_files::{Loaded, MeshWriter, load};
 use crate::picture;
-use crate::plural::count;
+use crate::plural::{count, faces};
 use crate::stdout::report_on_stderr_if_written_to_stdout;
 use quadopt::io::Format;
+use quadopt::quality::ByFaceKind;
 use quadopt::{Options, QualityStats};
 use serde_json::json;
 use std::path::Path;
@@ -33,11 +34,19 @@ pub fn quality(
     }
     let s = QualityStats::from_values(&values);
     let h = picture::histogram(&values);
+    // Per face kind only for a mesh with triangles: a quad mesh's report is as it was.
+    let kinds = ByFaceKind::new(planar.mesh.faces(), &values);
+    let mixed = kinds.triangle_count > 0;
     if as_json {
         let mut v = stats_json(&s);
         v["file"] = json!(input.display().to_string());
         v["vertices"] = json!(data.points.len());
-        v["quads"] = json!(data.quads.len());
+        v["quads"] = json!(kinds.quad_count);
+        if mixed {
+            v["triangles"] = json!(kinds.triangle_count);
+            v["faces"] = json!(values.len());
+            v["by_kind"] = by_kind_json(&kinds);
+        }
         v["histogram"] = json!(h);
         outln!("{v}");
         return Ok(());
@@ -46,9 +55,12 @@ pub fn quality(
         "{}: {}, {}",
         input.display(),
         count(data.points.len(), "vertex", "vertices"),
-        count(data.quads.len(), "quad", "quads")
+        faces(kinds.quad_count, kinds.triangle_count)
     );
     outln!("scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
+    if mixed {
+        print_kinds(&kinds);
+    }
     let most = h.iter().copied().max().unwrap_or(1).max(1);
     for (i, &count) in h.iter().enumerate() {
         let label = if i == 0 {
@@ -60,4 +72,21 @@ pub fn quality(
         outln!("  {label:>10} {count:>7} {bar}");
     }
     Ok(())
+}
+
+/// One line per face kind: its count, min, avg, max and inverted count ("-" for a kind the mesh
+/// has none of).
+pub fn print_kinds(k: &ByFaceKind) {
+    for (name, n, stats) in [("quads", k.quad_count, k.quads), ("triangles", k.triangle_count, k.triangles)] {
+        match stats {
+            Some(s) => outln!(
+                "  {name:9} {n:>7}: min {:.4}, avg {:.4}, max {:.4}; {} inverted",
+                s.min,
+                s.avg,
+                s.max,
+                s.inverted
+            ),
+            None => outln!("  {name:9} {n:>7}"),
+        }
+    }
 }

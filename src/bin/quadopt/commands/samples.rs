@@ -6,7 +6,8 @@ use crate::mesh_files::{Loaded, load};
 use crate::plural::count;
 use crate::progress::run;
 use quadopt::io::Format;
-use quadopt::{Optimizer, Options};
+use quadopt::quality::ByFaceKind;
+use quadopt::{Optimizer, Options, QualityStats};
 use std::path::{Path, PathBuf};
 
 /// The bundled sample meshes: `data/` of the crate, else `./data`.
@@ -83,6 +84,10 @@ pub fn run_data_dir() -> Result<(), Fail> {
                     r.iterations,
                     r.seconds
                 );
+                // A mesh with triangles: a row per face kind under the mesh's (its count under #F).
+                if r.input_by_kind.triangle_count > 0 {
+                    print_kinds(&r.input_by_kind, &r.output_by_kind);
+                }
             }
             Err(Fail::Usage(m) | Fail::Other(m)) => {
                 failed += 1;
@@ -98,3 +103,30 @@ pub fn run_data_dir() -> Result<(), Fail> {
     }
     Ok(())
 }
+
+/// The rows of each face kind of a mesh with triangles: count, then input and output min / avg
+/// / max and inverted counts, in the columns of the mesh's row ("-" for a kind it has none of).
+fn print_kinds(input: &ByFaceKind, output: &ByFaceKind) {
+    let three = |s: Option<QualityStats>| match s {
+        Some(s) => format!("{:>7.3} {:>7.3} {:>7.3}", s.min, s.avg, s.max),
+        None => format!("{:>7} {:>7} {:>7}", "-", "-", "-"),
+    };
+    let inverted = |s: Option<QualityStats>| s.map_or(0, |s| s.inverted);
+    let kinds: [(&str, usize, KindStats); 2] =
+        [("  quads", input.quad_count, |k| k.quads), ("  triangles", input.triangle_count, |k| k.triangles)];
+    for (name, n, stats) in kinds {
+        let (i, o) = (stats(input), stats(output));
+        let row = format!(
+            "{name:28} {:>7} {n:>7}  {}  {}  {:>4}->{:<4}",
+            "",
+            three(i),
+            three(o),
+            inverted(i),
+            inverted(o)
+        );
+        outln!("{}", row.trim_end());
+    }
+}
+
+/// One face kind's statistics out of a [`ByFaceKind`].
+type KindStats = fn(&ByFaceKind) -> Option<QualityStats>;

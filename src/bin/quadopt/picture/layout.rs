@@ -1,16 +1,18 @@
-//! Where things go: the mesh panels on one scale (inverted quads marked over them), their
+//! Where things go: the mesh panels on one scale (inverted faces marked over them), their
 //! captions, the legend to their right, and (before/after) the histogram underneath with its
 //! axes labelled, every item inside the frame.
 
 use super::{
-    Anchor, BIN_LABELS, Item, Picture, Quad, Rgb, TEXT, colour, hatch, histogram, is_inverted, text_width,
+    Anchor, BIN_LABELS, Face, Item, Picture, Rgb, TEXT, colour, hatch, histogram, is_inverted, text_width,
 };
+use crate::plural::face_words;
 use glam::DVec2;
-use quadopt::{Mesh, QualityStats};
+use quadopt::quality::ByFaceKind;
+use quadopt::{Mesh, QualityStats, face};
 
 const MARGIN: f32 = 20.0;
-/// The width of an inverted quad's outline and hatching: wider than any edge, so that an
-/// inverted quad is a visible dot even where quads are smaller than a pixel.
+/// The width of an inverted face's outline and hatching: wider than any edge, so that an
+/// inverted face is a visible dot even where faces are smaller than a pixel.
 const MARK_WIDTH: f32 = 1.5;
 /// Between two panels.
 const GAP: f32 = 40.0;
@@ -36,10 +38,12 @@ pub fn single(mesh: &Mesh, title: &str) -> Picture {
 
 /// The input (`before`) and the optimized mesh (`after`) side by side on one scale and one
 /// colour scale, each headed and with its min / avg / inverted underneath, and the histogram
-/// of both below.
+/// of both below. A mesh with triangles has two more lines under each panel, the min and avg
+/// of its quads and of its triangles, and its histogram counts faces.
 pub fn before_after(before: &Mesh, after: &Mesh, title: &str, headings: [&str; 2]) -> Picture {
     let mut p = Builder::new(title);
     let values = [before.quality_values(), after.quality_values()];
+    let mixed = before.triangle_count() > 0;
     let heading_top = p.bottom + 14.0;
     p.bottom = heading_top + TEXT as f32 + 8.0;
     let panels = p.panels(&[before, after], 560.0);
@@ -54,10 +58,19 @@ pub fn before_after(before: &Mesh, after: &Mesh, title: &str, headings: [&str; 2
             &format!("min {:.3}  avg {:.3}  {} inverted", q.min, q.avg, q.inverted),
         );
         bottom = bottom.max(panels.bottom + 10.0 + TEXT as f32);
+        if mixed {
+            let k = ByFaceKind::new(if i == 0 { before } else { after }.faces(), values);
+            for (line, (name, s)) in [("quads", k.quads), ("triangles", k.triangles)].into_iter().enumerate()
+            {
+                let y = panels.bottom + 10.0 + (line + 1) as f32 * (TEXT as f32 + 4.0);
+                p.text(x, y, &kind_line(name, s));
+                bottom = bottom.max(y + TEXT as f32);
+            }
+        }
     }
     p.legend(panels.right + GAP, panels.top);
     p.bottom = p.bottom.max(bottom) + 30.0;
-    p.histogram(&values);
+    p.histogram(&values, mixed);
     p.finish()
 }
 
@@ -100,7 +113,7 @@ impl Builder {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for m in meshes {
             let points = m.points();
-            for &v in m.quads().iter().flatten() {
+            for &v in m.faces().iter().flat_map(face::vertices) {
                 lo = lo.min(points[v as usize]);
                 hi = hi.max(points[v as usize]);
             }
@@ -115,17 +128,19 @@ impl Builder {
             left.push(x0);
             let points = m.points();
             let map = |p: DVec2| [x0 + ((p.x - lo.x) * scale) as f32, top + ((hi.y - p.y) * scale) as f32];
-            let mut quads = Vec::with_capacity(m.quads().len());
+            let mut faces = Vec::with_capacity(m.faces().len());
             let mut marks = Vec::new();
-            for (q, sj) in m.quads().iter().zip(m.quality_values()) {
-                let corners = q.map(|v| map(points[v as usize]));
-                quads.push(Quad { corners, sj: sj as f32 });
+            for (f, sj) in m.faces().iter().zip(m.quality_values()) {
+                let corners =
+                    f.map(|v| if v == face::NO_VERTEX { [0.0; 2] } else { map(points[v as usize]) });
+                let corners = &corners[..face::corner_count(f)];
+                faces.push(Face::new(corners, sj as f32));
                 if is_inverted(sj) {
                     marks.push(hatch::mark(corners, Some(format!("inverted: {sj:.4}"))));
                 }
             }
-            let stroke = 0.6f64.min(0.15 * size / (m.quads().len() as f64).sqrt().max(1.0)) as f32;
-            self.push(Item::Quads { quads, stroke });
+            let stroke = 0.6f64.min(0.15 * size / (m.faces().len() as f64).sqrt().max(1.0)) as f32;
+            self.push(Item::Faces { faces, stroke });
             if !marks.is_empty() {
                 self.push(Item::Marks { marks, width: MARK_WIDTH });
             }
@@ -137,7 +152,7 @@ impl Builder {
     }
 
     /// The colour scale, its title over it, at (`x`, `y`), and under it a sample of how an
-    /// inverted quad is marked.
+    /// inverted face is marked.
     fn legend(&mut self, x: f32, y: f32) {
         self.text(x, y, "scaled");
         self.text(x, y + TEXT as f32 + 4.0, "Jacobian");
@@ -158,16 +173,18 @@ impl Builder {
             tooltip: None,
         });
         let corners = [[x, sy], [x + side, sy], [x + side, sy + side], [x, sy + side]];
-        self.push(Item::Marks { marks: vec![hatch::mark(corners, None)], width: MARK_WIDTH });
+        self.push(Item::Marks { marks: vec![hatch::mark(&corners, None)], width: MARK_WIDTH });
         self.text(x + side + 8.0, sy + (side - TEXT as f32) / 2.0, "inverted");
     }
 
-    /// The share of quads in each bin of [`histogram`], input and optimized, below what is there
+    /// The share of faces in each bin of [`histogram`], input and optimized, below what is there
     /// and as wide as the picture (at least as wide as its labels need): the y axis titled over
     /// its ticks (in percent, from 0 to the largest share rounded up to a tick), the series'
     /// swatches on the title's line, the bins' labels under the bars and the x axis's title
-    /// under them.
-    fn histogram(&mut self, values: &[Vec<f64>; 2]) {
+    /// under them. The title and tooltips say "quads" for a quad mesh, "faces" for one with
+    /// triangles (`mixed`).
+    fn histogram(&mut self, values: &[Vec<f64>; 2], mixed: bool) {
+        let (one, many) = face_words(mixed);
         let counts = values.each_ref().map(|v| histogram(v));
         let shares: Vec<[f64; 11]> =
             counts.iter().zip(values).map(|(c, v)| c.map(|n| n as f64 / v.len().max(1) as f64)).collect();
@@ -175,7 +192,7 @@ impl Builder {
         let (step, ticks) = ticks(largest);
         let top_share = f64::from(step * ticks) / 100.0;
         let y = self.bottom;
-        let title = "share of quads";
+        let title = &format!("share of {many}");
         self.text(MARGIN, y, title);
         // Swatches for the two series, on the title's line, after it.
         let mut sx = MARGIN + text_width(title, TEXT) + 30.0;
@@ -237,7 +254,7 @@ impl Builder {
                     stroke: None,
                     tooltip: Some(format!(
                         "{name} {range}: {}",
-                        crate::plural::count(counts[series][bin], "quad", "quads")
+                        crate::plural::count(counts[series][bin], one, many)
                     )),
                 });
             }
@@ -279,6 +296,11 @@ fn ticks(largest: f64) -> (u32, u32) {
     let steps = |step: u32| ((percent / f64::from(step) - 1e-9).ceil() as u32).max(1);
     let step = TICK_STEPS.into_iter().find(|&s| steps(s) <= MAX_TICK_STEPS).unwrap_or(TICK_STEPS[3]);
     (step, steps(step))
+}
+
+/// "quads: min 0.500  avg 0.900", or "triangles: none".
+fn kind_line(name: &str, s: Option<QualityStats>) -> String {
+    s.map_or(format!("{name}: none"), |s| format!("{name}: min {:.3}  avg {:.3}", s.min, s.avg))
 }
 
 /// "(a, b]" for bin `bin` >= 1 of [`histogram`].
@@ -367,9 +389,9 @@ mod tests {
         assert_eq!(marks[0].tooltip.as_deref(), Some(format!("inverted: {:.4}", values[3]).as_str()));
         assert!(!marks[0].hatch.is_empty());
         // The mark is the inverted quad's outline, drawn after (over) the quads.
-        let quads = p.items.iter().position(|i| matches!(i, Item::Quads { .. })).unwrap();
-        let Item::Quads { quads: drawn, .. } = &p.items[quads] else { unreachable!() };
-        assert_eq!(marks[0].outline, drawn[3].corners);
+        let quads = p.items.iter().position(|i| matches!(i, Item::Faces { .. })).unwrap();
+        let Item::Faces { faces: drawn, .. } = &p.items[quads] else { unreachable!() };
+        assert_eq!(marks[0].outline, drawn[3].corners());
         assert!(p.items[quads + 1..].iter().any(|i| matches!(i, Item::Marks { .. })));
         // Before and after: the marks of both panels; a valid mesh has none but the legend's.
         assert_eq!(self::marks(&before_after(&m, &m, "t", ["a", "b"])).len(), 2);
@@ -395,6 +417,62 @@ mod tests {
         }
     }
 
+    /// A 2x2 grid whose upper right quad is split into two triangles, the centre pushed across
+    /// the split quad's right edge, which inverts the triangle (4, 5, 8).
+    fn mixed_with_an_inverted_triangle() -> Mesh {
+        let mut points: Vec<DVec2> = (0..9).map(|i| DVec2::new(f64::from(i % 3), f64::from(i / 3))).collect();
+        points[4] = DVec2::new(2.2, 1.5);
+        let faces =
+            vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], face::triangle(4, 5, 8), face::triangle(4, 8, 7)];
+        Mesh::with_faces(points, faces, None).unwrap()
+    }
+
+    #[test]
+    fn triangles_are_drawn_and_marked_with_three_corners_and_counted_as_faces() {
+        let m = mixed_with_an_inverted_triangle();
+        let values = m.quality_values();
+        let inverted: Vec<usize> = (0..values.len()).filter(|&f| values[f] <= 0.0).collect();
+        assert!(inverted.contains(&3), "{values:?}");
+        let p = before_after(&m, &m, "t", ["before", "after"]);
+        assert_inside(&p);
+        let drawn: Vec<&Face> = p
+            .items
+            .iter()
+            .filter_map(|i| if let Item::Faces { faces, .. } = i { Some(faces) } else { None })
+            .flatten()
+            .collect();
+        let corners: Vec<usize> = drawn.iter().map(|f| f.corners().len()).collect();
+        assert_eq!(corners, [4, 4, 4, 3, 3, 4, 4, 4, 3, 3]);
+        // Each panel marks each inverted face by its corners as drawn, in the order drawn.
+        let marks = marks(&p);
+        assert_eq!(marks.len(), 2 * inverted.len());
+        let second = inverted.iter().map(|f| f + 5);
+        for (mark, f) in marks.iter().zip(inverted.iter().copied().chain(second)) {
+            assert_eq!(mark.outline, drawn[f].corners());
+            assert!(!mark.hatch.is_empty());
+        }
+        // Each kind's min and avg under the panels; the histogram's title and tooltips count
+        // faces, every face in one bin.
+        let texts: Vec<&str> = p
+            .items
+            .iter()
+            .filter_map(|i| if let Item::Text { text, .. } = i { Some(text.as_str()) } else { None })
+            .collect();
+        let triangles = QualityStats::from_values(&values[3..]);
+        let line = format!("triangles: min {:.3}  avg {:.3}", triangles.min, triangles.avg);
+        assert_eq!(texts.iter().filter(|t| **t == line).count(), 2, "{line} in {texts:?}");
+        assert!(texts.contains(&"share of faces"), "{texts:?}");
+        let mut total = 0;
+        for item in &p.items {
+            if let Item::Rect { tooltip: Some(t), .. } = item {
+                let (n, what) = t.rsplit(": ").next().unwrap().split_once(' ').unwrap();
+                assert!(what == "faces" || what == "face", "{t}");
+                total += n.parse::<usize>().unwrap();
+            }
+        }
+        assert_eq!(total, 10);
+    }
+
     #[test]
     fn both_panels_share_one_scale_and_the_histogram_counts_every_quad() {
         let before = jittered_grid(5);
@@ -405,7 +483,7 @@ mod tests {
         let widths: Vec<f32> = p
             .items
             .iter()
-            .filter(|i| matches!(i, Item::Quads { .. }))
+            .filter(|i| matches!(i, Item::Faces { .. }))
             .map(Item::bounds)
             .map(|(l, _, r, _)| r - l)
             .collect();

@@ -1,5 +1,6 @@
-//! Pictures of quad meshes coloured by scaled Jacobian (red for 0 and below, white for 1, as
-//! in the paper's figures), inverted quads outlined and hatched ([`hatch`]): one mesh
+//! Pictures of quad and quad-dominant meshes, each face (quad or triangle) coloured by its
+//! scaled Jacobian (red for 0 and below, white for 1, as in the paper's figures), inverted
+//! faces outlined and hatched ([`hatch`]): one mesh
 //! ([`layout::single`]), or input and output side by side on one colour scale with a
 //! histogram of both ([`layout::before_after`]).
 //!
@@ -20,13 +21,13 @@ pub struct Rgb(pub u8, pub u8, pub u8);
 impl Rgb {
     pub const BLACK: Rgb = Rgb(0, 0, 0);
     pub const EDGE: Rgb = Rgb(0x55, 0x55, 0x55);
-    /// The outline and hatching of inverted quads.
+    /// The outline and hatching of inverted faces.
     pub const MARK: Rgb = Rgb::BLACK;
     /// The histogram's grid lines.
     pub const GRID: Rgb = Rgb(0xdd, 0xdd, 0xdd);
 }
 
-/// Whether a quad of scaled Jacobian `sj` is inverted: at or below 0 (as
+/// Whether a face of scaled Jacobian `sj` is inverted: at or below 0 (as
 /// [`quadopt::QualityStats::inverted`] counts), or NaN.
 pub fn is_inverted(sj: f64) -> bool {
     sj <= 0.0 || sj.is_nan()
@@ -43,19 +44,38 @@ pub fn colour(sj: f64) -> Rgb {
     }
 }
 
-/// One quad of a mesh panel, in picture coordinates (y down).
+/// One face of a mesh panel, a quad or a triangle, in picture coordinates (y down).
 #[derive(Clone, Copy, Debug)]
-pub struct Quad {
-    pub corners: [[f32; 2]; 4],
+pub struct Face {
+    /// The corners; a triangle's fourth is unused.
+    corners: [[f32; 2]; 4],
+    /// 3 or 4.
+    len: u8,
     /// Its scaled Jacobian (the fill colour, and the SVG tooltip).
     pub sj: f32,
 }
 
-/// The marking of an inverted quad ([`hatch::mark`]): its outline and the hatch lines inside
+impl Face {
+    /// A quad (four `corners`) or a triangle (three).
+    pub fn new(corners: &[[f32; 2]], sj: f32) -> Face {
+        assert!(matches!(corners.len(), 3 | 4), "a face has 3 or 4 corners, not {}", corners.len());
+        let mut c = [corners[0]; 4];
+        c[..corners.len()].copy_from_slice(corners);
+        Face { corners: c, len: corners.len() as u8, sj }
+    }
+
+    /// Its corners, in order: three for a triangle, four for a quad.
+    pub fn corners(&self) -> &[[f32; 2]] {
+        &self.corners[..usize::from(self.len)]
+    }
+}
+
+/// The marking of an inverted face ([`hatch::mark`]): its outline and the hatch lines inside
 /// it, in picture coordinates.
 #[derive(Clone, Debug)]
 pub struct Mark {
-    pub outline: [[f32; 2]; 4],
+    /// The face's corners (three or four).
+    pub outline: Vec<[f32; 2]>,
     pub hatch: Vec<[[f32; 2]; 2]>,
     /// SVG's `<title>` (PNG ignores it); none for the legend's sample.
     pub tooltip: Option<String>,
@@ -72,9 +92,9 @@ pub enum Anchor {
 /// One thing drawn, in the order given (later items over earlier ones).
 #[derive(Clone, Debug)]
 pub enum Item {
-    /// A mesh: every quad filled by its colour, edges `stroke` pixels wide.
-    Quads { quads: Vec<Quad>, stroke: f32 },
-    /// Inverted quads' marks, outline and hatch lines `width` pixels wide in [`Rgb::MARK`].
+    /// A mesh: every face filled by its colour, edges `stroke` pixels wide.
+    Faces { faces: Vec<Face>, stroke: f32 },
+    /// Inverted faces' marks, outline and hatch lines `width` pixels wide in [`Rgb::MARK`].
     Marks { marks: Vec<Mark>, width: f32 },
     /// A rectangle; `tooltip` is SVG's `<title>` (PNG ignores it).
     Rect { x: f32, y: f32, w: f32, h: f32, fill: Rgb, stroke: Option<Rgb>, tooltip: Option<String> },
@@ -104,9 +124,9 @@ impl Item {
     /// The box the item covers: (left, top, right, bottom).
     pub fn bounds(&self) -> (f32, f32, f32, f32) {
         match self {
-            Item::Quads { quads, stroke } => {
+            Item::Faces { faces, stroke } => {
                 let mut b = (f32::INFINITY, f32::INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY);
-                for p in quads.iter().flat_map(|q| q.corners) {
+                for p in faces.iter().flat_map(|f| f.corners().iter().copied()) {
                     b = (b.0.min(p[0]), b.1.min(p[1]), b.2.max(p[0]), b.3.max(p[1]));
                 }
                 let s = stroke / 2.0;
@@ -114,7 +134,7 @@ impl Item {
             }
             Item::Marks { marks, width } => {
                 let mut b = (f32::INFINITY, f32::INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY);
-                for p in marks.iter().flat_map(|m| m.outline) {
+                for p in marks.iter().flat_map(|m| m.outline.iter().copied()) {
                     b = (b.0.min(p[0]), b.1.min(p[1]), b.2.max(p[0]), b.3.max(p[1]));
                 }
                 let s = width / 2.0;
@@ -141,7 +161,7 @@ impl Anchor {
     }
 }
 
-/// The quads of `values` by their bins: `counts[0]` those at or below 0 (the inverted ones,
+/// The faces of `values` by their bins: `counts[0]` those at or below 0 (the inverted ones,
 /// as [`quadopt::QualityStats::inverted`] counts them, and NaN), then `counts[k]` those in
 /// `((k - 1) / 10, k / 10]` for k = 1..10. `quality` prints and reports the same bins.
 pub fn histogram(values: &[f64]) -> [usize; 11] {
@@ -168,6 +188,17 @@ mod tests {
         assert_eq!(h, [3, 3, 1, 1, 0, 0, 0, 0, 0, 0, 3]);
         assert_eq!(h.iter().sum::<usize>(), values.len());
         assert_eq!(h[0], quadopt::QualityStats::from_values(&values[..10]).inverted + 1);
+    }
+
+    #[test]
+    fn a_face_keeps_three_or_four_corners() {
+        let t = Face::new(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], 0.5);
+        assert_eq!(t.corners(), [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+        let q = Face::new(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], 1.0);
+        assert_eq!(q.corners().len(), 4);
+        let faces = vec![t, q];
+        let (l, t, r, b) = Item::Faces { faces, stroke: 0.0 }.bounds();
+        assert_eq!((l, t, r, b), (0.0, 0.0, 1.0, 1.0));
     }
 
     #[test]

@@ -23,13 +23,13 @@ pub fn render(picture: &Picture) -> Result<Vec<u8>, String> {
     let id = Transform::identity();
     for item in &picture.items {
         match item {
-            Item::Quads { quads, stroke } => {
-                // Each quad filled alone (its own colour), then every edge in one stroked path,
-                // so that an edge shared by two quads is not darkened twice.
+            Item::Faces { faces, stroke } => {
+                // Each face filled alone (its own colour), then every edge in one stroked path,
+                // so that an edge shared by two faces is not darkened twice.
                 let mut edges = PathBuilder::new();
-                for q in quads {
+                for q in faces {
                     let mut pb = PathBuilder::new();
-                    for (i, &[x, y]) in q.corners.iter().enumerate() {
+                    for (i, &[x, y]) in q.corners().iter().enumerate() {
                         if i == 0 {
                             pb.move_to(x, y);
                             edges.move_to(x, y);

@@ -1,5 +1,5 @@
-//! A [`Picture`] as SVG text: quads as paths with their scaled Jacobian as a tooltip, the
-//! marks of inverted quads as paths of class `inverted`, the colour bar as a gradient, text in
+//! A [`Picture`] as SVG text: faces (quads and triangles) as paths with their scaled Jacobian
+//! as a tooltip, the marks of inverted faces as paths of class `inverted`, the colour bar as a gradient, text in
 //! the viewer's monospace font.
 
 use super::{Anchor, Item, Picture, Rgb, colour};
@@ -24,15 +24,15 @@ pub fn render(picture: &Picture) -> String {
     let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
     for item in &picture.items {
         match item {
-            Item::Quads { quads, stroke } => {
+            Item::Faces { faces, stroke } => {
                 let _ = writeln!(
                     s,
                     r##"<g stroke="{}" stroke-width="{stroke:.3}" stroke-linejoin="round">"##,
                     hex(Rgb::EDGE)
                 );
-                for q in quads {
+                for q in faces {
                     let mut d = String::new();
-                    for (i, [x, y]) in q.corners.iter().enumerate() {
+                    for (i, [x, y]) in q.corners().iter().enumerate() {
                         let _ = write!(d, "{}{x:.2},{y:.2} ", if i == 0 { "M" } else { "L" });
                     }
                     let fill = hex(colour(f64::from(q.sj)));

@@ -8,7 +8,20 @@
 //!   boundary mode, size-independent termination);
 //! - `topology/N`: building the CSR topology;
 //! - `samples/optimize/NAME`: a full default run on each sample mesh of `data/` (topology
-//!   included).
+//!   included);
+//! - `quad_dominant/PRESET/quads` and `quad_dominant/PRESET/mixed`: a full run
+//!   (`quadopt::optimize`, topology included) with each preset (fast, balanced, best) on the
+//!   synthetic mesh of about 10k quads and on its quad-dominant twin
+//!   ([`Synthetic::generate_quad_dominant`] with a fifth of the quads split into two triangles:
+//!   the same vertices at the same positions, 1.2 times the faces). Issue 32's target: time
+//!   per face on the quad-dominant mesh within 1.5 times that on the quad mesh. Two more
+//!   pairs take the max-min stage out, which runs on the quad-dominant mesh only (its
+//!   triangles leave the minimum far below 1 after the sweeps, the quad mesh's is within 1e-3
+//!   of 1 and the stage is skipped): `quad_dominant/sweep/*` (one sweep, as `sweep/N`) and
+//!   `quad_dominant/PRESET-no-maxmin/*` (balanced and best without the stage).
+//!   `QUADOPT_BENCH_QD_QUADS=N` picks another size, `QUADOPT_BENCH_QD_SPLIT=F` another
+//!   fraction; before the group it prints both meshes' face counts and each run's sweeps and
+//!   max-min stage.
 //!
 //! Before each size's group it prints the peak heap bytes of a default run (topology build
 //! included, the caller's mesh excluded) per vertex. `cargo bench --bench optimize` runs them. A full run on 1M quads takes minutes and criterion
@@ -17,7 +30,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use quadopt::synthetic::Synthetic;
-use quadopt::{BoundaryMode, Optimizer, Options, Topology};
+use quadopt::{BoundaryMode, Effort, Optimizer, Options, Topology};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -116,5 +129,69 @@ fn samples(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(name = optimize; config = Criterion::default(); targets = benches, samples);
+/// Per preset, a full run on a quad mesh and on its quad-dominant twin (the same vertices, a
+/// fraction of the quads split into triangles): `quad_dominant/PRESET/{quads,mixed}`.
+fn quad_dominant(c: &mut Criterion) {
+    let env = |name: &str| std::env::var(name).ok().and_then(|s| s.trim().parse::<f64>().ok());
+    let n = env("QUADOPT_BENCH_QD_QUADS").map_or(10_000, |n| n as usize);
+    let split = env("QUADOPT_BENCH_QD_SPLIT").unwrap_or(0.2);
+    let spec = Synthetic::with_quads(n);
+    let quads = spec.generate();
+    let mixed = spec.generate_quad_dominant(split).unwrap();
+    assert_eq!(quads.points(), mixed.points(), "the twins must share their vertices");
+    println!(
+        "quad_dominant: quad mesh {} faces, quad-dominant mesh {} faces ({} triangles), {} vertices each",
+        quads.faces().len(),
+        mixed.faces().len(),
+        mixed.triangle_count(),
+        quads.points().len()
+    );
+    let mut group = c.benchmark_group("quad_dominant");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
+    let sweep = Options::default()
+        .with_boundary(BoundaryMode::Slide)
+        .with_max_iterations(1)
+        .with_untangle(false)
+        .with_max_min(false);
+    for (kind, mesh) in [("quads", &quads), ("mixed", &mixed)] {
+        let optimizer = Optimizer::new(mesh);
+        group.bench_function(BenchmarkId::new("sweep", kind), |b| {
+            b.iter_batched_ref(
+                || mesh.clone(),
+                |m| optimizer.run(m, &sweep, None).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+    }
+    let runs = Effort::ALL.into_iter().map(|e| (e.to_string(), Options::default().with_effort(e)));
+    let no_stage = [Effort::Balanced, Effort::Best]
+        .into_iter()
+        .map(|e| (format!("{e}-no-maxmin"), Options::default().with_effort(e).with_max_min(false)));
+    for (name, options) in runs.chain(no_stage) {
+        for (kind, mesh) in [("quads", &quads), ("mixed", &mixed)] {
+            let report = quadopt::optimize(&mut mesh.clone(), &options).unwrap();
+            let stage = report.max_min.as_ref().map_or("no max-min stage".to_string(), |g| {
+                format!("max-min stage {} rounds, {:.3} s", g.rounds, g.seconds)
+            });
+            println!(
+                "quad_dominant/{name}/{kind}: {} sweeps ({} untangling), {stage}, min {:.3} -> {:.3}, {:.3} s",
+                report.iterations,
+                report.untangle_sweeps,
+                report.input.min,
+                report.output.min,
+                report.seconds
+            );
+            group.bench_function(BenchmarkId::new(&name, kind), |b| {
+                b.iter_batched_ref(
+                    || mesh.clone(),
+                    |m| quadopt::optimize(m, &options).unwrap(),
+                    criterion::BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(name = optimize; config = Criterion::default(); targets = benches, samples, quad_dominant);
 criterion_main!(optimize);

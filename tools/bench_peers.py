@@ -11,6 +11,7 @@ Usage:  python3 -m venv VENV && VENV/bin/pip install -r tools/requirements.txt n
 A quadopt without `--effort`: give each preset's flags instead, e.g.
         --preset-flags "fast=--no-maxmin --max-iter 10" --preset-flags balanced= --preset-flags best=
 
+        VENV/bin/python tools/bench_peers.py --quad-dominant --getme DIR  # quad-dominant meshes (below)
 The table goes to stdout, then the dominance count (below); notes (skipped meshes and tools,
 checks that failed) go to stderr. Columns: mesh, quads, tool ("input" is the mesh as given; a
 peer; "quadopt NAME" per preset), seconds (the median over the repeats of the tool's own timer
@@ -19,8 +20,8 @@ that step, all threads: gmsh's exactly, around the optimize call; quadopt's and 
 process's CPU time minus that of a run of the same program that only reads, sets up and writes:
 quadopt `--max-iter 1 --boundary fixed --no-untangle --no-maxmin`, DMO `--iters 0`; none for
 GETMe, whose driver has no such run), min SJ / avg SJ (minimum and mean scaled Jacobian over all
-quads), inverted (quads with scaled Jacobian <= 0), edge ratio (the smallest shortest/longest
-edge ratio of a quad; "thin" after it: see below), and quadopt's time divided by the peer's,
+faces: quads, and triangles with --quad-dominant), inverted (faces with scaled Jacobian <= 0),
+edge ratio (the smallest shortest/longest edge ratio of a face; "thin" after it: see below), and quadopt's time divided by the peer's,
 wall-clock and CPU, where quadopt is the balanced preset (the default; the first preset run if
 balanced was not) (below 1: quadopt is faster; no CPU ratio where either CPU time is missing or
 under 1 ms, the noise of process accounting). "(!)" after a tool marks an output that failed a
@@ -59,6 +60,26 @@ Meshes
 * every mesh in data/ and in the Mesquite test meshes (../shared/meshes/mesquite relative to the
   repository, or --mesquite DIR), when quadopt can read it: the planar ones (curved surfaces
   and meshes with triangles are skipped with a note).
+
+Quad-dominant meshes (--quad-dominant, issue 32)
+-----------------------------------------------
+Instead of the meshes above: quads and triangles together. Per sample model of
+tools/make_samples.py (its geometry and mesh size), the gmsh mesh with the triangles kept
+(make_samples.gmsh_quads(..., mixed=True): Mesh.Algorithm = 8, Blossom recombination, or the
+simple recombination (Mesh.RecombinationAlgorithm = 0) where Blossom leaves no triangle, no
+all-quad subdivision), labelled qd/NAME ("raw"), and the same mesh perturbed by make_samples.perturb
+with the model's seed, jitter and defect targets, defects at triangles first, plus a target of
+PERTURB_INVERT (-0.3) when the model's own are all positive, so that faces invert
+(qd/NAME+perturbed); then data/*_mixed.vtk and Mesquite's untangled/polarMesh.vtk (216 quads,
+24 triangles). A triangle is scored by Verdict's triangle scaled Jacobian (see Evaluator); min,
+avg and inverted are over all faces; the faces column gives the triangles among them. DMO is
+quad-only and not run. GETMe gets the mixed mesh as a polygonal mesh (GetmeConfig(4) holds the
+transformations of triangles and quads), but the driver in ../shared/peers/getme reads quads
+only: --getme (or $QUADOPT_GETME_DIR) must name a copy of that directory whose getme_smooth.cpp
+also reads and writes VTK type 5 (a triangle as four ids with -1 fourth, its loops over a face's
+own corner count), made outside this repository (GETMe is GPL); with the unextended driver the
+GETMe rows are missing, with a note. In the default (quad) runs a mesh with triangles is skipped
+with a note.
 
 Tools (each on the same input nodes; "held" = never moved)
 ----------------------------------------------------------
@@ -119,6 +140,7 @@ repeat. The JSON file holds {"gmsh": version, "presets": {name: flags}, "rows": 
 """
 
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -155,7 +177,9 @@ def note(msg):
 
 
 class Mesh:
-    """Points (n x 3 float64), quads (m x 4 int, as in the file), fixed flags (n bools) or None."""
+    """Points (n x 3 float64), faces (m x 4 int, as in the file; a triangle has -1 in its fourth
+    slot, quadopt's NO_VERTEX), fixed flags (n bools) or None. The attribute keeps its old name,
+    `quads`: on a quad mesh every face is one."""
 
     def __init__(self, points, quads, fixed):
         self.points = points
@@ -164,8 +188,9 @@ class Mesh:
 
 
 def read_vtk(path):
-    """Reads an ASCII legacy VTK UNSTRUCTURED_GRID (quads, type 9; vertex and line cells are
-    ignored) or POLYDATA (4-vertex POLYGONS) with an optional point-data array `fixed`."""
+    """Reads an ASCII legacy VTK UNSTRUCTURED_GRID (quads, type 9, and triangles, type 5; vertex
+    and line cells are ignored) or POLYDATA (3- and 4-vertex POLYGONS) with an optional
+    point-data array `fixed`. A triangle is stored with -1 as its fourth vertex."""
     with open(path) as f:
         lines = f.read().split("\n")
     if len(lines) < 4 or lines[2].strip().upper() != "ASCII":
@@ -245,9 +270,12 @@ def read_vtk(path):
     if polys is not None:
         j = 0
         while j < len(polys):
-            if polys[j] != 4:
-                raise ValueError("a polygon is not a quad")
-            quads.append(polys[j + 1 : j + 5])
+            if polys[j] == 3:
+                quads.append(polys[j + 1 : j + 4] + [-1])
+            elif polys[j] == 4:
+                quads.append(polys[j + 1 : j + 5])
+            else:
+                raise ValueError(f"a polygon of {polys[j]} vertices (only triangles and quads)")
             j += polys[j] + 1
     if cells is not None:
         j = 0
@@ -255,8 +283,10 @@ def read_vtk(path):
             n = cells[j]
             if t == 9:
                 quads.append(cells[j + 1 : j + 5])
+            elif t == 5:
+                quads.append(cells[j + 1 : j + 4] + [-1])
             elif t not in (1, 2, 3, 4):
-                raise ValueError(f"not an all-quad mesh (VTK cell type {t})")
+                raise ValueError(f"not a quad or quad-dominant mesh (VTK cell type {t})")
             j += n + 1
     if not quads:
         raise ValueError("no quads")
@@ -268,10 +298,11 @@ def read_vtk(path):
 def write_vtk(path, mesh, title="quadopt bench_peers"):
     out = ["# vtk DataFile Version 3.0", title, "ASCII", "DATASET UNSTRUCTURED_GRID", f"POINTS {len(mesh.points)} double"]
     out += [f"{x!r} {y!r} {z!r}" for x, y, z in mesh.points.tolist()]
-    out.append(f"CELLS {len(mesh.quads)} {5 * len(mesh.quads)}")
-    out += ["4 %d %d %d %d" % tuple(q) for q in mesh.quads.tolist()]
+    tri = is_triangle(mesh.quads)
+    out.append(f"CELLS {len(mesh.quads)} {5 * len(mesh.quads) - int(tri.sum())}")
+    out += ["3 %d %d %d" % tuple(q[:3]) if t else "4 %d %d %d %d" % tuple(q) for q, t in zip(mesh.quads.tolist(), tri.tolist())]
     out.append(f"CELL_TYPES {len(mesh.quads)}")
-    out += ["9"] * len(mesh.quads)
+    out += ["5" if t else "9" for t in tri.tolist()]
     if mesh.fixed is not None:
         out += [f"POINT_DATA {len(mesh.points)}", "SCALARS fixed int 1", "LOOKUP_TABLE default"]
         out += ["1" if f else "0" for f in mesh.fixed.tolist()]
@@ -284,13 +315,43 @@ def write_vtk(path, mesh, title="quadopt bench_peers"):
 # --------------------------------------------------------------------------------------------
 
 
+def is_triangle(faces):
+    """Per face (rows of an m x 4 array), whether it is a triangle (-1 fourth)."""
+    return faces[:, 3] < 0
+
+
+def face_vertices(f):
+    """A face's vertices (a list of 4 ints, -1 fourth for a triangle) without the sentinel."""
+    return f[:3] if f[3] < 0 else f
+
+
+def reverse_faces(faces):
+    """Every face reversed (a triangle keeps its -1 fourth)."""
+    out = faces[:, ::-1].copy()
+    tri = is_triangle(faces)
+    out[tri] = np.stack([faces[tri, 2], faces[tri, 1], faces[tri, 0], faces[tri, 3]], axis=1)
+    return out
+
+
+def directed_edges(faces):
+    """(E x 2 directed edges in each face's direction, face index of each edge): four per quad,
+    three per triangle."""
+    nxt = np.roll(faces, -1, axis=1)
+    tri = is_triangle(faces)
+    nxt[tri, 2] = faces[tri, 0]
+    mask = faces >= 0
+    e = np.stack([faces, nxt], axis=2)
+    return e[mask], np.nonzero(mask)[0]
+
+
 def boundary_edges(quads):
-    """Edges used by exactly one quad, as (a, b) in the quad's direction; raises on an edge used
-    by more than two quads."""
+    """Edges used by exactly one face, as (a, b) in the face's direction; raises on an edge used
+    by more than two faces."""
     count = {}
     for q in quads.tolist():
-        for k in range(4):
-            a, b = q[k], q[(k + 1) % 4]
+        q = face_vertices(q)
+        for k in range(len(q)):
+            a, b = q[k], q[(k + 1) % len(q)]
             key = (min(a, b), max(a, b))
             c = count.get(key)
             count[key] = (c[0] + 1, c[1]) if c else (1, (a, b))
@@ -393,6 +454,8 @@ def components(n, quads):
 
     for q in quads.tolist():
         for k in range(1, 4):
+            if q[k] < 0:
+                continue
             ra, rb = find(q[0]), find(q[k])
             if ra != rb:
                 parent[ra] = rb
@@ -406,7 +469,7 @@ def import_mesh(gmsh, mesh):
     m = gmsh.model.mesh
     quads = mesh.quads
     loops = boundary_loops(quads)
-    used = np.unique(quads)
+    used = used_vertices(quads)
     c, e1, e2, _ = plane_frame(mesh.points[used])
     p2 = np.stack([(mesh.points - c) @ e1, (mesh.points - c) @ e2], axis=1)
     comp = components(len(mesh.points), quads)
@@ -450,17 +513,27 @@ def import_mesh(gmsh, mesh):
             xyz = mesh.points[inner].reshape(-1)
             par = gmsh.model.getParametrization(2, surf, xyz.tolist())
             m.addNodes(2, surf, [v + 1 for v in inner], xyz.tolist(), list(par))
-        # Quads in the surface's orientation.
+        # Faces in the surface's orientation: quads (gmsh type 3), then triangles (type 2).
         qs = quads[quad_comp == cid]
-        probe = mesh.points[qs[0]].mean(axis=0)
+        probe = mesh.points[face_vertices(qs[0].tolist())].mean(axis=0)
         sn = np.array(gmsh.model.getNormal(surf, list(gmsh.model.getParametrization(2, surf, probe.tolist()))))
         p = mesh.points[qs]
+        tri = is_triangle(qs)
+        p[tri, 3] = p[tri, 0]  # a triangle's diagonals: (c - a) x (a - b) is its doubled normal
         mesh_normal = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]).sum(axis=0)
         if float(mesh_normal @ sn) < 0:
-            qs = qs[:, ::-1]
-        m.addElementsByType(surf, 3, list(range(next_elem, next_elem + len(qs))), (qs.reshape(-1) + 1).tolist())
-        next_elem += len(qs)
+            qs = reverse_faces(qs)
+        for etype, sel in ((3, ~is_triangle(qs)), (2, is_triangle(qs))):
+            f = qs[sel][:, : 4 if etype == 3 else 3]
+            if len(f):
+                m.addElementsByType(surf, etype, list(range(next_elem, next_elem + len(f))), (f.reshape(-1) + 1).tolist())
+                next_elem += len(f)
     return held_vertices(mesh)
+
+
+def used_vertices(faces):
+    """The vertices used by some face, sorted."""
+    return np.unique(faces[faces >= 0])
 
 
 def gmsh_session_nodes(gmsh):
@@ -523,7 +596,7 @@ def run_gmsh(mesh_source, repeat, out_dir, label, untangle_max_quads):
             tag_index_for_coords = np.arange(-1, n, dtype=np.int64)  # tag t -> vertex t - 1
             tag_index_for_coords[0] = n
             n_coords = n + 1
-        used = np.unique(mesh.quads)
+        used = used_vertices(mesh.quads)
         start = gmsh_session_nodes(gmsh)
 
         def coords():
@@ -604,11 +677,14 @@ class Evaluator:
     plane (x, y when z is constant). Per quad: the minimum over its corners of
     cross(next - p, prev - p) / (|next - p| |prev - p|), 0 for an edge shorter than 10 eps
     times the quad's bounding-box diagonal, a quad whose last two corners coincide measured as
-    that triangle (quadopt's and Verdict's rules). A tool that flips a whole component thus
-    shows inverted quads (quadopt quality, which orients each file by itself, would not)."""
+    that triangle (quadopt's and Verdict's rules); per triangle (a -1 fourth vertex), Verdict's
+    triangle scaled Jacobian: the minimum over its corners of the cross product over the product
+    of the two edge lengths, times 2/sqrt(3) (1 for an equilateral triangle), signed the same
+    way. A tool that flips a whole component thus shows inverted faces (quadopt quality, which
+    orients each file by itself, would not)."""
 
     def __init__(self, mesh):
-        used = np.unique(mesh.quads)
+        used = used_vertices(mesh.quads)
         z = mesh.points[used, 2]
         if np.ptp(z) == 0:
             self.frame = None
@@ -622,15 +698,16 @@ class Evaluator:
         for cid in np.unique(comp):
             sel = comp == cid
             if area[sel].sum() < 0:
-                quads[sel] = quads[sel][:, ::-1]
+                quads[sel] = reverse_faces(quads[sel])
         self.quads = quads
+        self.tri = is_triangle(quads)
 
     @staticmethod
     def _consistent(quads):
         """Reverses quads so that every interior edge is run in opposite directions by its two
         quads (the minority of each component is reversed); raises if not orientable."""
         quads = quads.copy()
-        e = np.stack([quads, np.roll(quads, -1, axis=1)], axis=2).reshape(-1, 2)
+        e, face = directed_edges(quads)
         lo, hi = e.min(axis=1), e.max(axis=1)
         key = lo * (int(quads.max()) + 1) + hi
         order = np.argsort(key, kind="stable")
@@ -641,7 +718,7 @@ class Evaluator:
         if not same.any():
             return quads
         adj = {}
-        for qa, qb, sm in zip((a // 4).tolist(), (b // 4).tolist(), same.tolist()):
+        for qa, qb, sm in zip(face[a].tolist(), face[b].tolist(), same.tolist()):
             adj.setdefault(qa, []).append((qb, sm))
             adj.setdefault(qb, []).append((qa, sm))
         flip = {}
@@ -663,7 +740,7 @@ class Evaluator:
             flipped = [q for q in comp if flip[q]]
             minority = flipped if 2 * len(flipped) <= len(comp) else [q for q in comp if not flip[q]]
             for q in minority:
-                quads[q] = quads[q][::-1]
+                quads[q] = reverse_faces(quads[q : q + 1])[0]
         return quads
 
     def _project(self, points):
@@ -674,11 +751,38 @@ class Evaluator:
 
     @staticmethod
     def _areas(p, quads):
-        x, y = p[quads][..., 0], p[quads][..., 1]
+        q = quads.copy()
+        tri = is_triangle(q)
+        q[tri, 3] = q[tri, 0]  # a triangle as a quad with a repeated corner: the same area
+        x, y = p[q][..., 0], p[q][..., 1]
         return 0.5 * (x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y).sum(axis=1)
 
     def scaled_jacobians(self, points):
-        p = self._project(points)[self.quads]  # m x 4 x 2
+        """Per face, its signed scaled Jacobian (quads and triangles as in the class docs)."""
+        p = self._project(points)
+        sj = np.empty(len(self.quads))
+        sj[~self.tri] = self._quad_sj(p[self.quads[~self.tri]])
+        sj[self.tri] = self._triangle_sj(p[self.quads[self.tri, :3]])
+        return sj
+
+    @staticmethod
+    def _triangle_sj(p):
+        """Verdict's triangle scaled Jacobian of each triangle (t x 3 x 2 corners), signed."""
+        if len(p) == 0:
+            return np.empty(0)
+        a, b, c = p[:, 0], p[:, 1], p[:, 2]
+        l0, l1, l2 = (np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1))
+        big = np.maximum(np.maximum(l0 * l2, l0 * l1), l1 * l2)
+        cross = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sj = np.where(big > 0, cross * (2 / math.sqrt(3)) / big, 0.0)
+        return np.clip(sj, -1.0, 1.0)
+
+    @staticmethod
+    def _quad_sj(p):
+        """The quad scaled Jacobian of each quad (m x 4 x 2 corners), signed."""
+        if len(p) == 0:
+            return np.empty(0)
         e = np.roll(p, -1, axis=1) - p  # edge i: corner i -> i + 1
         ln = np.linalg.norm(e, axis=2)
         ej, lj = np.roll(e, 1, axis=1), np.roll(ln, 1, axis=1)  # edge into corner i
@@ -698,17 +802,19 @@ class Evaluator:
         return sj
 
     def edge_ratio(self, points):
-        """Smallest shortest/longest edge ratio of a quad: the scaled Jacobian does not see
+        """Smallest shortest/longest edge ratio of a face: the scaled Jacobian does not see
         aspect ratio, so a quad squashed into a thin rectangle scores near 1 and only this shows it."""
-        p = self._project(points)[self.quads]
-        ln = np.linalg.norm(np.roll(p, -1, axis=1) - p, axis=2)
+        p = self._project(points)
+        e, _ = directed_edges(self.quads)
+        ln = np.full(self.quads.shape, np.nan)
+        ln[self.quads >= 0] = np.linalg.norm(p[e[:, 1]] - p[e[:, 0]], axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            return float(np.nan_to_num(ln.min(axis=1) / ln.max(axis=1)).min())
+            return float(np.nan_to_num(np.nanmin(ln, axis=1) / np.nanmax(ln, axis=1)).min())
 
     def stats(self, points):
         sj = self.scaled_jacobians(points)
         return dict(min=float(sj.min()), avg=float(sj.mean()), inverted=int(np.count_nonzero(sj <= 0)), quads=len(sj),
-                    edge_ratio=self.edge_ratio(points))
+                    triangles=int(self.tri.sum()), edge_ratio=self.edge_ratio(points))
 
 
 def child_cpu():
@@ -902,6 +1008,9 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
         except ValueError as e:
             note(f"{label}: skipped, this script cannot read it ({e})")
             return []
+        if is_triangle(mesh.quads).any() and not args.quad_dominant:
+            note(f"{label}: skipped, it has triangles (a quad-dominant mesh: see --quad-dominant)")
+            return []
         nq = len(mesh.quads)
     else:
         nq = source[1]
@@ -937,7 +1046,9 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
     cross_check(label, "input", q_in, q_quadopt)
     held = held_vertices(mesh)
     fixed = mesh.fixed if mesh.fixed is not None else np.zeros(len(mesh.points), dtype=bool)
-    rows.append(dict(mesh=label, quads=nq, tool="input", seconds=None, **{k: q_in[k] for k in ("min", "avg", "inverted", "edge_ratio")}))
+    ntri = q_in["triangles"]
+    rows.append(dict(mesh=label, quads=nq, triangles=ntri, tool="input", seconds=None,
+                     **{k: q_in[k] for k in ("min", "avg", "inverted", "edge_ratio")}))
 
     runs = []  # (tool name, result dict, vertices that must not move)
     peer_path = path if source[0] == "plate" else peer_copy(mesh, os.path.join(out_dir, f"{stem}.peer-input.vtk"))
@@ -951,8 +1062,12 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
                 note(f"{label}: GETMe: {r['note']}")
             runs.append(("GETMe", r, held))
         except RuntimeError as e:
-            note(f"{label}: GETMe skipped ({e})")
-    if dmo_exe and nq <= args.dmo_max_quads:
+            hint = ("; its driver reads quads only: give --getme a copy extended to triangles (see the module docs)"
+                    if ntri and "cell type 5" in str(e) else "")
+            note(f"{label}: GETMe skipped ({e}){hint}")
+    if dmo_exe and ntri:
+        note(f"{label}: DMO skipped (quad-only; {ntri} triangles)")
+    elif dmo_exe and nq <= args.dmo_max_quads:
         try:
             runs.append(("DMO", run_dmo(dmo_exe, peer_path, os.path.join(out_dir, f"{stem}.dmo.vtk"), args.dmo_repeat), held))
         except RuntimeError as e:
@@ -988,12 +1103,17 @@ def bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe):
             note(f"{label}: {name}: {f}")
         q = evaluator.stats(read_vtk(r["output"]).points)
         cross_check(label, name, q, quality(quadopt, r["output"]))
-        rows.append(dict(mesh=label, quads=nq, tool=name, seconds=r["seconds"], times=r["times"], cpu=r["cpu"],
+        rows.append(dict(mesh=label, quads=nq, triangles=ntri, tool=name, seconds=r["seconds"], times=r["times"], cpu=r["cpu"],
                          **{k: r[k] for k in ("cpu_seconds", "process_cpu_seconds", "getme_seconds", "mode", "effort", "quadopt_flags")
                             if r.get(k) is not None},
                          min=q["min"], avg=q["avg"], edge_ratio=q["edge_ratio"], inverted=q["inverted"], flags=failed))
     return rows
 
+
+# The defect target (a scaled Jacobian) added to a sample model's perturbation in the
+# quad-dominant set when the model's own targets are all positive: every perturbed mesh has
+# inverted faces.
+PERTURB_INVERT = -0.3
 
 # CPU times below this (seconds) are within the noise of process accounting: no CPU ratio.
 CPU_FLOOR = 1e-3
@@ -1067,13 +1187,19 @@ def tool_label(r):
     return name + (" (!)" if r.get("flags") else "")
 
 
+def fmt_faces(r):
+    """The face count, with the triangles among them when there are any."""
+    return f"{r['quads']} ({r['triangles']} tri)" if r.get("triangles") else f"{r['quads']}"
+
+
 def fmt_rows(rows):
     inputs = {key: tools.get("input") for key, tools in by_mesh(rows).items()}
-    out = ["| mesh | quads | tool | seconds | CPU s | min SJ | avg SJ | inverted | edge ratio | quadopt / tool (s) | quadopt / tool (CPU) |",
+    faces = "faces" if any(r.get("triangles") for r in rows) else "quads"
+    out = [f"| mesh | {faces} | tool | seconds | CPU s | min SJ | avg SJ | inverted | edge ratio | quadopt / tool (s) | quadopt / tool (CPU) |",
            "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r, (wall, cpu) in zip(rows, ratios(rows)):
         thin = " thin" if r["tool"] != "input" and is_thin(r, inputs[(r["mesh"], r["quads"])]) else ""
-        out.append(f"| {r['mesh']} | {r['quads']} | {tool_label(r)} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
+        out.append(f"| {r['mesh']} | {fmt_faces(r)} | {tool_label(r)} | {fmt_seconds(r['seconds'])} | {fmt_seconds(r.get('cpu'))} | "
                    f"{r['min']:.3f} | {r['avg']:.3f} | {r['inverted']} | {r['edge_ratio']:.1e}{thin} | "
                    f"{'' if wall is None else f'{wall:.3g}'} | {'' if cpu is None else f'{cpu:.3g}'} |")
     return "\n".join(out)
@@ -1088,8 +1214,10 @@ def fmt_wide(rows):
         if r["tool"] not in tools:
             tools.append(r["tool"])
     left = {(n["mesh"], n["peer"]) for n in dominance(rows)["not_dominated"]}
-    out = ["| mesh | quads | " + " | ".join(tools) + " |", "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
+    faces = "faces" if any(r.get("triangles") for r in rows) else "quads"
+    out = [f"| mesh | {faces} | " + " | ".join(tools) + " |", "| --- | ---: | " + " | ".join("---" for _ in tools) + " |"]
     for (mesh, nq), t in by_mesh(rows).items():
+        first = next(iter(t.values()))
         cells = []
         for name in tools:
             r = t.get(name)
@@ -1108,7 +1236,7 @@ def fmt_wide(rows):
             if r.get("flags"):
                 c += " (!)"
             cells.append(c)
-        out.append(f"| {mesh} | {nq} | " + " | ".join(cells) + " |")
+        out.append(f"| {mesh} | {fmt_faces(first)} | " + " | ".join(cells) + " |")
     return "\n".join(out)
 
 
@@ -1225,6 +1353,9 @@ def parse_args():
     ap.add_argument("--json", metavar="PATH",
                     help="also write all rows (with every run's time) and the dominance summary as JSON to PATH ('-': stdout)")
     ap.add_argument("--from-json", metavar="PATH", help="print the table and the dominance of an earlier --json file instead of running")
+    ap.add_argument("--quad-dominant", action="store_true",
+                    help="run the quad-dominant set (sample models meshed with triangles kept, raw and perturbed; "
+                         "data/*_mixed.vtk; Mesquite's polarMesh) instead of the quad meshes; DMO is quad-only and skipped")
     ap.add_argument("--dominance-count", action="store_true",
                     help="print only the dominance count, as one JSON line on stdout (for scripts)")
     args = ap.parse_args()
@@ -1233,9 +1364,13 @@ def parse_args():
     return args
 
 
-def peer_exe(name, peer_dir, out_dir, build_dir, exe_name, source):
-    """A peer's executable, built with its build.sh into OUT_DIR/build_dir; None (with a note)
-    when the peer is missing or its build fails."""
+def peer_exe(name, peer_dir, out_dir, build_dir, exe_name, source, default_dir=None):
+    """A peer's executable, built with its build.sh into OUT_DIR/build_dir (a directory of its
+    own for a peer directory other than default_dir, e.g. GETMe's copy extended to triangles,
+    so that one build never stands in for another); None (with a note) when the peer is
+    missing or its build fails."""
+    if default_dir is not None and os.path.realpath(peer_dir) != os.path.realpath(default_dir):
+        build_dir += "-" + hashlib.sha1(os.path.realpath(peer_dir).encode()).hexdigest()[:10]
     if not os.path.exists(os.path.join(peer_dir, "build.sh")):
         note(f"no {name} row: no {name} peer at {peer_dir} (--{name.lower()} DIR or QUADOPT_{name.upper()}_DIR)")
         return None
@@ -1266,6 +1401,69 @@ def mesh_list(args):
                     meshes += [(f"mesquite/{sub}/{f[:-4]}", ("file", os.path.join(d, f))) for f in sorted(os.listdir(d)) if f.endswith(".vtk")]
         else:
             note(f"no Mesquite meshes at {args.mesquite}")
+    if args.only:
+        meshes = [m for m in meshes if args.only in m[0]]
+    return meshes
+
+
+def padded(faces):
+    """Faces given as lists of 3 or 4 vertices as an m x 4 array (-1 fourth for a triangle)."""
+    return np.array([list(f) + [-1] * (4 - len(f)) for f in faces], dtype=np.int64)
+
+
+def quad_dominant_list(args):
+    """(label, ("file", path)) of the quad-dominant set (--quad-dominant; see the module docs):
+    per sample model of tools/make_samples.py, its gmsh mesh with the triangles kept (raw) and
+    that mesh perturbed with inverted faces; data/*_mixed.vtk; Mesquite's polarMesh."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import make_samples as ms
+
+    d = os.path.join(args.out_dir, "quad-dominant")
+    os.makedirs(d, exist_ok=True)
+    meshes = []
+    for s in ms.SAMPLES:
+        name = s["name"]
+        if args.only and args.only not in f"qd/{name}" and args.only not in f"qd/{name}+perturbed":
+            continue
+        points = faces = None
+        for rec in (1, 0):  # Blossom, then the simple recombination where Blossom leaves no triangle
+            r = ms.gmsh_quads(s["build"], s["size"], 8, recombination=rec, mixed=True)
+            if r is not None and any(len(f) == 3 for f in r[1]):
+                points, faces = r
+                break
+        if faces is None:
+            note(f"qd/{name}: skipped, gmsh left no triangle")
+            continue
+        if not all(ms.signed_area(points, f) > 0 for f in faces):
+            note(f"qd/{name}: skipped, gmsh made an invalid face")
+            continue
+        fixed = None
+        if s.get("fixed_outer"):
+            _, _, bnd = ms.topology(len(points), faces)
+            outer = set(ms.outer_loop(points, ms.boundary_loops(bnd)))
+            fixed = np.array([v in outer for v in range(len(points))])
+        defects = list(s["defects"]) if min(s["defects"]) < 0 else [PERTURB_INVERT] + list(s["defects"])
+        try:
+            moved = ms.perturb(points, faces, s["seed"], s["jitter"], s["slide"], defects, True)
+        except Exception as e:  # the perturbation is make_samples.py's: a failure there is a note
+            note(f"qd/{name}: no perturbed mesh ({e})")
+            moved = None
+        f4 = padded(faces)
+        for label, pts in ((f"qd/{name}", points), (f"qd/{name}+perturbed", moved)):
+            if pts is None:
+                continue
+            xyz = np.zeros((len(pts), 3))
+            xyz[:, :2] = np.array(pts, dtype=np.float64)
+            path = os.path.join(d, label.replace("/", "_") + ".vtk")
+            write_vtk(path, Mesh(xyz, f4, fixed), f"{label}: gmsh quad-dominant mesh of make_samples.py's {name} (tools/bench_peers.py)")
+            meshes.append((label, ("file", path)))
+    data = os.path.join(ROOT, "data")
+    meshes += [(f"data/{f[:-4]}", ("file", os.path.join(data, f))) for f in sorted(os.listdir(data)) if f.endswith("_mixed.vtk")]
+    polar = os.path.join(args.mesquite, "untangled", "polarMesh.vtk")
+    if os.path.exists(polar):
+        meshes.append(("mesquite/untangled/polarMesh", ("file", polar)))
+    else:
+        note(f"no polarMesh at {polar}")
     if args.only:
         meshes = [m for m in meshes if args.only in m[0]]
     return meshes
@@ -1313,11 +1511,17 @@ def main():
     if any(f[:1] == ["--effort"] for f in presets.values()) and not has_effort_flag(quadopt):
         sys.exit(f"error: {quadopt} has no --effort option: give --preset-flags NAME=FLAGS for every preset in --presets")
     os.makedirs(args.out_dir, exist_ok=True)
-    dmo_exe = None if args.no_dmo else peer_exe("DMO", args.dmo, args.out_dir, "dmo-build", "dmo_smooth", "dmo_smooth.cpp")
-    getme_exe = None if args.no_getme else peer_exe("GETMe", args.getme, args.out_dir, "getme-build", "getme_smooth", "getme_smooth.cpp")
+    if args.quad_dominant and not args.no_dmo:
+        note("no DMO rows: DMO is quad-only (it takes no triangles)")
+        args.no_dmo = True
+    shared = os.path.join(ROOT, "..", "shared", "peers")
+    dmo_exe = None if args.no_dmo else peer_exe("DMO", args.dmo, args.out_dir, "dmo-build", "dmo_smooth", "dmo_smooth.cpp",
+                                                os.path.join(shared, "dmo"))
+    getme_exe = None if args.no_getme else peer_exe("GETMe", args.getme, args.out_dir, "getme-build", "getme_smooth", "getme_smooth.cpp",
+                                                    os.path.join(shared, "getme"))
 
     rows = []
-    for label, source in mesh_list(args):
+    for label, source in quad_dominant_list(args) if args.quad_dominant else mesh_list(args):
         rows += bench_mesh(args, label, source, quadopt, presets, dmo_exe, getme_exe)
     report(args, rows, dict(gmsh=gmsh.__version__, presets=presets))
 

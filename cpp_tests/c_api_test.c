@@ -1,6 +1,7 @@
 /* Pure C99 test of include/quadopt.h: defaults, hand-computed quality values, the optimizer on
- * a small patch, the reusable handle, growable structs, and every error status that bad input
- * can produce, each checked to leave the caller's buffers untouched.
+ * a small patch, the reusable handle, growable structs, a quad-dominant patch (triangles as
+ * three indices and QUADOPT_NO_VERTEX, the report's per-kind fields), and every error status
+ * that bad input can produce, each checked to leave the caller's buffers untouched.
  *
  * On POSIX systems also: a child forked after use, and (Linux) an input too large for an
  * address-space limit, which must give QUADOPT_STATUS_OUT_OF_MEMORY rather than abort.
@@ -419,6 +420,163 @@ static void expect_failure(QuadoptStatus expected, double *coords, uint32_t dim,
 #define EXPECT_FAILURE(status, coords, dim, n, quads, nq, fixed, o, mention) \
   expect_failure(status, coords, dim, n, quads, nq, fixed, o, mention, __LINE__)
 
+/* The patch with its upper right quad (4, 5, 8, 7) split into the triangles (4, 5, 8) and
+ * (4, 8, 7): three quads and two triangles, a triangle's fourth index QUADOPT_NO_VERTEX. */
+#define MIXED_F 5
+static const uint32_t mixed_faces[4 * MIXED_F] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 7, 6,
+                                                  4, 5, 8, QUADOPT_NO_VERTEX, 4, 8, 7, QUADOPT_NO_VERTEX};
+
+/* Verdict's triangle scaled Jacobian, computed independently of the library: twice the signed
+ * area over the largest product of two edge lengths, times 2/sqrt(3). */
+static double triangle_scaled_jacobian(const double *xy, const uint32_t *t) {
+  const double *a = xy + 2 * t[0], *b = xy + 2 * t[1], *c = xy + 2 * t[2];
+  double cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  double lab = hypot(b[0] - a[0], b[1] - a[1]), lbc = hypot(c[0] - b[0], c[1] - b[1]);
+  double lca = hypot(a[0] - c[0], a[1] - c[1]);
+  double m = lab * lbc;
+  if (lbc * lca > m) m = lbc * lca;
+  if (lca * lab > m) m = lca * lab;
+  return cross / m * 2.0 / sqrt(3.0);
+}
+
+/* The statistics of the faces of one kind among `values`, summed in face order as the library
+ * does (so the same bits). */
+static QuadoptFaceKindQuality kind_stats(const double *values, const uint32_t *faces, size_t n, int triangles) {
+  QuadoptFaceKindQuality k;
+  double sum = 0.0;
+  size_t f;
+  k.count = 0;
+  k.min = NAN;
+  k.avg = NAN;
+  for (f = 0; f < n; ++f) {
+    if ((faces[4 * f + 3] == QUADOPT_NO_VERTEX) != (triangles != 0)) continue;
+    if (k.count == 0 || values[f] < k.min) k.min = values[f];
+    sum += values[f];
+    ++k.count;
+  }
+  if (k.count > 0) k.avg = sum / (double)k.count;
+  return k;
+}
+
+static int same_kind(QuadoptFaceKindQuality a, QuadoptFaceKindQuality b) {
+  return a.count == b.count && memcmp(&a.min, &b.min, sizeof a.min) == 0 && memcmp(&a.avg, &b.avg, sizeof a.avg) == 0;
+}
+
+static void test_mixed(void) {
+  double xy[2 * GRID_N], before[2 * GRID_N], again[2 * GRID_N], per_face[MIXED_F + 1], per_out[MIXED_F];
+  QuadoptQuality q;
+  QuadoptReport r;
+  QuadoptOptimizer *h = NULL;
+  int f, i;
+  /* Quality, face by face: the quads as before, the triangles Verdict's. */
+  grid_coords(xy, 1.6, 1.5);
+  per_face[MIXED_F] = -42.0;
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, mixed_faces, MIXED_F, &q, per_face, MIXED_F + 1), QUADOPT_STATUS_OK);
+  CHECK(per_face[MIXED_F] == -42.0);
+  for (f = 0; f < MIXED_F; ++f) {
+    const uint32_t *face = mixed_faces + 4 * f;
+    double want = face[3] == QUADOPT_NO_VERTEX ? triangle_scaled_jacobian(xy, face) : scaled_jacobian(xy, 2, face);
+    CHECK(fabs(per_face[f] - want) <= 1e-15);
+  }
+  /* The unit patch: squares score 1, and each triangle is half a square, a right isosceles
+   * triangle: (1 / sqrt(2)) * 2 / sqrt(3) = sqrt(2/3) by hand. */
+  grid_coords(xy, 1.0, 1.0);
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, mixed_faces, MIXED_F, &q, per_face, MIXED_F), QUADOPT_STATUS_OK);
+  CHECK(per_face[0] == 1.0 && per_face[1] == 1.0 && per_face[2] == 1.0);
+  CHECK(fabs(per_face[3] - sqrt(2.0 / 3.0)) <= 1e-15 && fabs(per_face[4] - sqrt(2.0 / 3.0)) <= 1e-15);
+  CHECK(q.max == 1.0 && fabs(q.min - sqrt(2.0 / 3.0)) <= 1e-15 && q.inverted == 0);
+
+  /* The centre dragged across the right-hand edge to (2.5, 1): quad (1, 2, 5, 4) and triangle
+   * (4, 5, 8) are inverted (its signed area: cross((-0.5, 0), (-0.5, 1)) / 2 = -0.25). */
+  grid_coords(xy, 2.5, 1.0);
+  memcpy(before, xy, sizeof xy);
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, mixed_faces, MIXED_F, &q, per_face, MIXED_F), QUADOPT_STATUS_OK);
+  CHECK(per_face[1] <= 0.0 && per_face[3] <= 0.0 && q.inverted == 2);
+  r = quadopt_report_init();
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, mixed_faces, MIXED_F, NULL, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.struct_size == sizeof(QuadoptReport));
+  /* Per kind: counts, and min and avg as the per-face values give them, bit for bit. */
+  CHECK(r.input_quads.count == 3 && r.input_triangles.count == 2);
+  CHECK(r.output_quads.count == 3 && r.output_triangles.count == 2);
+  CHECK(same_kind(r.input_quads, kind_stats(per_face, mixed_faces, MIXED_F, 0)));
+  CHECK(same_kind(r.input_triangles, kind_stats(per_face, mixed_faces, MIXED_F, 1)));
+  CHECK(r.input.inverted == 2 && r.input_triangles.min <= 0.0 && r.input_quads.min <= 0.0);
+  CHECK_STATUS(quadopt_quality(xy, 2, GRID_N, mixed_faces, MIXED_F, &q, per_out, MIXED_F), QUADOPT_STATUS_OK);
+  CHECK(same_kind(r.output_quads, kind_stats(per_out, mixed_faces, MIXED_F, 0)));
+  CHECK(same_kind(r.output_triangles, kind_stats(per_out, mixed_faces, MIXED_F, 1)));
+  /* Untangled, the minimum raised, the square's corners where they were, the centre back
+   * inside (the side midpoints may slide along the straight sides). */
+  CHECK(r.output.inverted == 0 && q.inverted == 0 && r.output.min > r.input.min);
+  CHECK(r.output_triangles.min > 0.0 && r.output_quads.min > 0.0);
+  CHECK(r.output.min == q.min && r.output.min == fmin(r.output_quads.min, r.output_triangles.min));
+  CHECK(memcmp(xy, before, 2 * sizeof(double)) == 0 && memcmp(xy + 4, before + 4, 2 * sizeof(double)) == 0);
+  CHECK(memcmp(xy + 12, before + 12, 2 * sizeof(double)) == 0 && memcmp(xy + 16, before + 16, 2 * sizeof(double)) == 0);
+  CHECK(xy[8] > 0.0 && xy[8] < 2.0 && xy[9] > 0.0 && xy[9] < 2.0);
+  CHECK(xy[3] == 0.0 && xy[6] == 0.0 && xy[10] == 2.0 && xy[15] == 2.0);
+
+  /* A fixed centre keeps its bits; only the four side midpoints may move. */
+  {
+    uint8_t fixed[GRID_N] = {0, 0, 0, 0, 1, 0, 0, 0, 0};
+    grid_coords(xy, 1.3, 1.2);
+    CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, mixed_faces, MIXED_F, fixed, NULL, &r), QUADOPT_STATUS_OK);
+    CHECK(xy[8] == 1.3 && xy[9] == 1.2);
+    CHECK(r.movable == 4 && r.output.min >= r.input.min);
+  }
+
+  /* The handle takes the same faces and gives the same result. */
+  grid_coords(xy, 2.5, 1.0);
+  CHECK_STATUS(quadopt_optimizer_create(xy, 2, GRID_N, mixed_faces, MIXED_F, NULL, &h), QUADOPT_STATUS_OK);
+  memcpy(again, before, sizeof again);
+  CHECK_STATUS(quadopt_optimize(again, 2, GRID_N, mixed_faces, MIXED_F, NULL, NULL, NULL), QUADOPT_STATUS_OK);
+  r = quadopt_report_init();
+  CHECK_STATUS(quadopt_optimizer_optimize(h, xy, 2, GRID_N, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(memcmp(xy, again, sizeof xy) == 0 && r.output_triangles.count == 2);
+  quadopt_optimizer_free(h);
+
+  /* A quad mesh: no triangles, so count 0 and NaN statistics. */
+  grid_coords(xy, 1.6, 1.5);
+  r = quadopt_report_init();
+  CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.input_quads.count == GRID_Q && r.output_quads.count == GRID_Q && r.output_quads.min == r.output.min);
+  CHECK(r.input_triangles.count == 0 && isnan(r.input_triangles.min) && isnan(r.input_triangles.avg));
+  CHECK(r.output_triangles.count == 0 && isnan(r.output_triangles.min) && isnan(r.output_triangles.avg));
+
+  /* A report of the size before the per-kind fields (0.2): written up to there, not beyond. */
+  {
+    union {
+      QuadoptReport r;
+      unsigned char bytes[sizeof(QuadoptReport)];
+    } old;
+    const size_t old_size = offsetof(QuadoptReport, input_quads);
+    size_t b;
+    int untouched = 1;
+    memset(&old, 0xC3, sizeof old);
+    old.r.struct_size = (uint32_t)old_size;
+    grid_coords(xy, 2.5, 1.0);
+    CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, mixed_faces, MIXED_F, NULL, NULL, &old.r), QUADOPT_STATUS_OK);
+    CHECK(old.r.struct_size == old_size && old.r.output.inverted == 0 && old.r.effort == QUADOPT_EFFORT_BALANCED);
+    for (b = old_size; b < sizeof old; ++b) untouched = untouched && old.bytes[b] == 0xC3;
+    CHECK(untouched);
+  }
+
+  /* QUADOPT_NO_VERTEX anywhere but in the fourth slot is an index out of range, and a face
+   * given twice (as a triangle) is refused too; nothing written either way. */
+  for (i = 0; i < 3; ++i) {
+    uint32_t bad[4 * MIXED_F];
+    memcpy(bad, mixed_faces, sizeof bad);
+    bad[4 * 3 + i] = QUADOPT_NO_VERTEX;
+    grid_coords(xy, 1.6, 1.5);
+    EXPECT_FAILURE(QUADOPT_STATUS_INDEX_OUT_OF_RANGE, xy, 2, GRID_N, bad, MIXED_F, NULL, NULL, NULL);
+  }
+  {
+    uint32_t bad[4 * MIXED_F];
+    memcpy(bad, mixed_faces, sizeof bad);
+    bad[4 * 4 + 1] = 4; /* (4, 4, 7): a repeated vertex */
+    grid_coords(xy, 1.6, 1.5);
+    EXPECT_FAILURE(QUADOPT_STATUS_REPEATED_VERTEX, xy, 2, GRID_N, bad, MIXED_F, NULL, NULL, NULL);
+  }
+}
+
 static int cancel_calls = 0;
 static bool cancel_at_third(const QuadoptProgress *p, void *user) {
   int *count = (int *)user;
@@ -681,6 +839,7 @@ int main(void) {
   test_growable_structs();
   test_effort();
   test_errors();
+  test_mixed();
   CHECK(cancel_calls == 3);
 #ifdef QUADOPT_TEST_POSIX
   test_fork_and_memory_limits();

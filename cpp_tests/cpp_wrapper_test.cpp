@@ -1,12 +1,15 @@
 // Tests of include/quadopt.hpp alone (no mesh library): the options builder, quadopt::Error,
 // the move-only Optimizer, progress callbacks (cancellation and exceptions), and concurrent
-// calls from several std::threads, with one shared handle and without.
+// calls from several std::threads, with one shared handle and without; a quad-dominant mesh
+// (quadopt::triangle, quadopt::no_vertex, the per-kind statistics of the report and of
+// quadopt::quality_by_kind).
 //
 // Usage: cpp_wrapper_test DATA_DIR
 #include "test_support.hpp"
 
 #include <quadopt.hpp>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <stdexcept>
@@ -25,6 +28,11 @@ static_assert(std::is_base_of<std::runtime_error, quadopt::Error>::value, "Error
 
 qt::Mesh g_plate;
 qt::Mesh g_grid;
+qt::Mesh g_mixed;
+
+static_assert(quadopt::no_vertex == UINT32_MAX && quadopt::no_vertex == QUADOPT_NO_VERTEX, "the sentinel");
+static_assert(quadopt::triangle(3, 4, 6)[3] == quadopt::no_vertex && quadopt::triangle(3, 4, 6)[2] == 6,
+              "a triangle's four slots");
 
 void test_options() {
   QuadoptOptions d;
@@ -313,6 +321,82 @@ void test_concurrency() {
   }
 }
 
+bool same_kind(const quadopt::FaceKindQuality &a, const quadopt::FaceKindQuality &b) {
+  return a.count == b.count && qt::same_bits(a.min, b.min) && qt::same_bits(a.avg, b.avg);
+}
+
+void test_triangles() {
+  // mixed_grid.obj: 51 quads and 26 triangles (cpp_tests/data/make_data.py), one of each inverted.
+  CHECK(g_mixed.quad_count() == 77 && g_mixed.triangle_count() == 26);
+  const std::array<std::uint32_t, 4> t = quadopt::triangle(12, 22, 21);
+  bool found = false;
+  for (std::size_t f = 0; f < g_mixed.quad_count(); ++f) {
+    const std::uint32_t *face = &g_mixed.quads[4 * f];
+    found = found || (quadopt::is_triangle(face) && face[0] == t[0] && face[1] == t[1] && face[2] == t[2]);
+    CHECK(quadopt::is_triangle(face) == (face[3] == QUADOPT_NO_VERTEX));
+  }
+  CHECK(found);
+  std::vector<double> xy = g_mixed.xy();
+  const std::vector<double> start = xy;
+  const quadopt::ByFaceKind in_k = quadopt::quality_by_kind(xy, 2, g_mixed.quads);
+  CHECK(in_k.quads.count == 51 && in_k.triangles.count == 26);
+  CHECK(in_k.quads.min <= 0.0 && in_k.triangles.min <= 0.0);
+  // The statistics by kind are those of the per-face values (a triangle's is Verdict's).
+  std::vector<double> per_face;
+  const quadopt::Quality q = quadopt::quality(xy, 2, g_mixed.quads, &per_face);
+  CHECK(per_face.size() == 77 && q.inverted == 2);
+  CHECK(qt::same_bits(std::fmin(in_k.quads.min, in_k.triangles.min), q.min));
+  const quadopt::Report r = quadopt::optimize(xy, 2, g_mixed.quads);
+  CHECK(same_kind(quadopt::input_by_kind(r).quads, in_k.quads) &&
+        same_kind(quadopt::input_by_kind(r).triangles, in_k.triangles));
+  const quadopt::ByFaceKind out_k = quadopt::quality_by_kind(xy, 2, g_mixed.quads);
+  CHECK(same_kind(quadopt::output_by_kind(r).quads, out_k.quads) &&
+        same_kind(quadopt::output_by_kind(r).triangles, out_k.triangles));
+  CHECK_MSG(r.output.inverted == 0 && out_k.triangles.min > 0.0 && out_k.quads.min > 0.0 && r.output.min > r.input.min,
+            "mixed grid: quads " << in_k.quads.min << " -> " << out_k.quads.min << ", triangles " << in_k.triangles.min
+                                 << " -> " << out_k.triangles.min);
+  // The wrapper is the C call: the same coordinates, bit for bit.
+  std::vector<double> c_xy = start;
+  QuadoptReport cr = quadopt_report_init();
+  CHECK(quadopt_optimize(c_xy.data(), 2, g_mixed.vertices(), g_mixed.quads.data(), g_mixed.quad_count(), nullptr,
+                         nullptr, &cr) == QUADOPT_STATUS_OK);
+  CHECK(qt::same_bits(c_xy, xy) && same_kind(cr.output_triangles, r.output_triangles));
+  // The reusable optimizer on the same faces.
+  const quadopt::Optimizer opt(start, 2, g_mixed.quads);
+  std::vector<double> h_xy = start;
+  const quadopt::Report hr = opt.optimize(h_xy);
+  CHECK(qt::same_bits(h_xy, xy) && same_kind(hr.output_quads, r.output_quads));
+  // A quad mesh: no triangles in the statistics.
+  const quadopt::ByFaceKind quads_only = quadopt::quality_by_kind(g_grid.xy(), 2, g_grid.quads);
+  CHECK(quads_only.quads.count == g_grid.quad_count() && quads_only.triangles.count == 0 &&
+        std::isnan(quads_only.triangles.min) && std::isnan(quads_only.triangles.avg));
+  // Built with quadopt::triangle: two quads and a triangle on top (cpp_tests/data/mixed.obj).
+  std::vector<double> small = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1, 1, 2};
+  std::vector<std::uint32_t> faces = {0, 1, 4, 3, 1, 2, 5, 4};
+  const auto top = quadopt::triangle(3, 4, 6);
+  faces.insert(faces.end(), top.begin(), top.end());
+  const quadopt::ByFaceKind sk = quadopt::quality_by_kind(small, 2, faces);
+  // The triangle (0,1) (1,1) (1,2): a right isosceles one, sqrt(2/3) (see c_api_test.c).
+  CHECK(sk.quads.count == 2 && sk.quads.min == 1.0 && sk.triangles.count == 1 &&
+        std::fabs(sk.triangles.min - std::sqrt(2.0 / 3.0)) <= 1e-15 && sk.triangles.avg == sk.triangles.min);
+  // The sentinel anywhere but in the fourth slot is an index out of range; coordinates untouched.
+  std::vector<std::uint32_t> bad = faces;
+  bad[9] = quadopt::no_vertex;
+  const std::vector<double> small_before = small;
+  CHECK_THROWS_STATUS(quadopt::optimize(small, 2, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  CHECK_THROWS_STATUS(quadopt::quality_by_kind(small, 2, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  CHECK(qt::same_bits(small, small_before));
+  // Three slots for a triangle (no sentinel): not a whole number of faces.
+  std::vector<std::uint32_t> short_faces(faces.begin(), faces.end() - 1);
+  try {
+    quadopt::quality(small, 2, short_faces);
+    CHECK_MSG(false, "no exception for 11 face indices");
+  } catch (const quadopt::Error &e) {
+    CHECK(e.status() == QUADOPT_STATUS_INVALID_ARGUMENT &&
+          e.message() == "11 face indices are not a multiple of 4");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -324,12 +408,14 @@ int main(int argc, char **argv) {
   try {
     g_plate = qt::read_obj(dir + "/plate_hole.obj");
     g_grid = qt::read_obj(dir + "/jittered_grid.obj");
+    g_mixed = qt::read_obj(dir + "/mixed_grid.obj");
     test_options();
     test_effort();
     test_errors();
     test_optimizer_handle();
     test_progress();
     test_concurrency();
+    test_triangles();
   } catch (const std::exception &e) {
     CHECK_MSG(false, "unexpected exception: " << e.what());
   }

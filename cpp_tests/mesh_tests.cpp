@@ -12,11 +12,21 @@
 // - the Rust CLI (`quadopt optimize IN -o OUT --json`) gives bit for bit the same coordinates
 //   and the same report numbers for the same file and options.
 //
+// Quad-dominant files (mixed_grid.obj, .off: quads and triangles) go through every check above,
+// and also: the triangles stay triangles in the OpenMesh and CGAL meshes (every face keeps its
+// vertices), the report's per-kind fields (input_quads, input_triangles, output_quads,
+// output_triangles) are what quadopt::quality_by_kind() measures, and the CLI's JSON has the
+// same per-kind numbers.
+//
+// With --faces: mixed.obj (two quads and a triangle) is optimized by both adapters, the
+// triangle kept; a face of five vertices is refused (quadopt::UnsupportedFace naming it, the
+// mesh unchanged).
+//
 // With --planes: meshes in a tilted plane (z = x + y) and in x = const are optimized in their
 // plane (they stay in it to 1e-12 of the extent, quality improves, the result equals the
 // CLI's bit for bit), and a curved mesh throws quadopt::NotPlanar naming its farthest vertex.
 //
-// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --non-quad or --planes)
+// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --faces or --planes)
 #include "test_support.hpp"
 
 #include <quadopt.h>
@@ -70,10 +80,43 @@ SM surface_mesh(const std::vector<double> &xy, const std::vector<std::uint32_t> 
   for (std::size_t i = 0; i < xy.size() / 2; ++i) sm.add_vertex(make(xy[2 * i], xy[2 * i + 1]));
   for (std::size_t q = 0; q < quads.size() / 4; ++q) {
     using V = typename SM::Vertex_index;
-    const auto f = sm.add_face(V(quads[4 * q]), V(quads[4 * q + 1]), V(quads[4 * q + 2]), V(quads[4 * q + 3]));
-    if (f == SM::null_face()) throw std::runtime_error("CGAL rejected quad " + std::to_string(q));
+    const std::uint32_t *c = &quads[4 * q];
+    const auto f = c[3] == QUADOPT_NO_VERTEX ? sm.add_face(V(c[0]), V(c[1]), V(c[2]))
+                                             : sm.add_face(V(c[0]), V(c[1]), V(c[2]), V(c[3]));
+    if (f == SM::null_face()) throw std::runtime_error("CGAL rejected face " + std::to_string(q));
   }
   return sm;
+}
+
+/// The four slots of every face of a Surface_mesh (vertex indices; a triangle's fourth is
+/// QUADOPT_NO_VERTEX), in face order.
+template <class SM>
+std::vector<std::uint32_t> cgal_faces(const SM &sm) {
+  std::vector<std::uint32_t> out;
+  for (auto f : sm.faces()) {
+    std::size_t k = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+      out.push_back(static_cast<std::uint32_t>(v));
+      ++k;
+    }
+    if (k == 3) out.push_back(QUADOPT_NO_VERTEX);
+  }
+  return out;
+}
+
+/// The same of an OpenMesh mesh.
+template <class M>
+std::vector<std::uint32_t> openmesh_faces(const M &m) {
+  std::vector<std::uint32_t> out;
+  for (auto f : m.faces()) {
+    std::size_t k = 0;
+    for (auto v : m.fv_range(f)) {
+      out.push_back(static_cast<std::uint32_t>(v.idx()));
+      ++k;
+    }
+    if (k == 3) out.push_back(QUADOPT_NO_VERTEX);
+  }
+  return out;
 }
 
 SM3 surface_mesh3(const std::vector<double> &xy, const std::vector<std::uint32_t> &quads) {
@@ -290,6 +333,7 @@ void test_openmesh_adapter(const Case &c) {
   }
   CHECK_MSG(same, c.path << ": OpenMesh (double) adapter differs from the C call");
   CHECK(z_same && r.iterations == ref_r.iterations && r.corners == ref_r.corners);
+  CHECK_MSG(openmesh_faces(om) == c.quads, c.path << ": the OpenMesh mesh's faces changed (triangles kept?)");
   const quadopt::Quality q = quadopt::openmesh::quality(om);
   CHECK(qt::same_bits(q.min, ref_r.output.min) && q.inverted == 0);
 
@@ -304,6 +348,7 @@ void test_openmesh_adapter(const Case &c) {
            fm.point(v)[1] == static_cast<float>(ref[2 * i + 1]) && fm.point(v)[2] == 0.0f;
   }
   CHECK_MSG(same, c.path << ": OpenMesh (float) adapter is not the C result rounded to float");
+  CHECK_MSG(openmesh_faces(fm) == c.quads, c.path << ": the OpenMesh (float) mesh's faces changed");
 
   // Locked and feature vertices are fixed.
   const auto mask = some_fixed(c);
@@ -378,6 +423,7 @@ void test_cgal_adapter(const Case &c) {
            sm.point(v).z() == 2.5;
   }
   CHECK_MSG(same, c.path << ": CGAL Point_3 adapter differs from the C call");
+  CHECK_MSG(cgal_faces(sm) == c.quads, c.path << ": the CGAL mesh's faces changed (triangles kept?)");
   CHECK(r.iterations == ref_r.iterations && qt::same_bits(quadopt::cgal::quality(sm).min, ref_r.output.min));
 
   // Surface_mesh<Point_2> of another kernel, with a removed (garbage) vertex in the middle of
@@ -390,7 +436,12 @@ void test_cgal_adapter(const Case &c) {
     vs.push_back(sm2.add_vertex(Epick::Point_2(c.xy[2 * i], c.xy[2 * i + 1])));
   }
   for (std::size_t q = 0; q < c.nq(); ++q) {
-    sm2.add_face(vs[c.quads[4 * q]], vs[c.quads[4 * q + 1]], vs[c.quads[4 * q + 2]], vs[c.quads[4 * q + 3]]);
+    const std::uint32_t *f = &c.quads[4 * q];
+    if (f[3] == QUADOPT_NO_VERTEX) {
+      sm2.add_face(vs[f[0]], vs[f[1]], vs[f[2]]);
+    } else {
+      sm2.add_face(vs[f[0]], vs[f[1]], vs[f[2]], vs[f[3]]);
+    }
   }
   sm2.remove_vertex(extra);
   CHECK(sm2.has_garbage());
@@ -517,51 +568,195 @@ void test_cli(const Case &c) {
     CHECK(qt::same_bits(qt::json_number(json, "min", "input"), r.input.min));
     CHECK(qt::json_number(json, "inverted", "output") == static_cast<double>(r.output.inverted));
     CHECK((json.find("\"converged\":true") != std::string::npos) == (r.converged != 0));
+    if (r.input_triangles.count > 0) {
+      // The per-kind statistics: the same numbers as the C report's.
+      for (const char *stage : {"input_by_kind", "output_by_kind"}) {
+        const bool in = stage[0] == 'i';
+        const QuadoptFaceKindQuality &kq = in ? r.input_quads : r.output_quads;
+        const QuadoptFaceKindQuality &kt = in ? r.input_triangles : r.output_triangles;
+        CHECK_MSG(qt::json_number_in(json, {stage, "quads"}, "count") == static_cast<double>(kq.count) &&
+                      qt::same_bits(qt::json_number_in(json, {stage, "quads"}, "min"), kq.min) &&
+                      qt::same_bits(qt::json_number_in(json, {stage, "quads"}, "avg"), kq.avg),
+                  cmd << ": " << stage << ".quads differs from the C report");
+        CHECK_MSG(qt::json_number_in(json, {stage, "triangles"}, "count") == static_cast<double>(kt.count) &&
+                      qt::same_bits(qt::json_number_in(json, {stage, "triangles"}, "min"), kt.min) &&
+                      qt::same_bits(qt::json_number_in(json, {stage, "triangles"}, "avg"), kt.avg),
+                  cmd << ": " << stage << ".triangles differs from the C report");
+      }
+    }
   }
+}
+
+bool same_kind(const QuadoptFaceKindQuality &a, const QuadoptFaceKindQuality &b) {
+  return a.count == b.count && qt::same_bits(a.min, b.min) && qt::same_bits(a.avg, b.avg);
+}
+
+/// A quad-dominant file: the report's per-kind fields through the C API, the C++ wrapper and
+/// both adapters, and a run with every triangle's vertices fixed.
+void test_face_kinds(const Case &c) {
+  std::size_t nt = 0;
+  for (std::size_t f = 0; f < c.nq(); ++f) nt += c.quads[4 * f + 3] == QUADOPT_NO_VERTEX ? 1 : 0;
+  CHECK_MSG(nt > 0 && nt < c.nq(), c.path << ": " << nt << " triangles among " << c.nq() << " faces");
+  QuadoptReport r;
+  const auto out = run_c(c, default_options(), {}, r);
+  const quadopt::ByFaceKind in_k = quadopt::quality_by_kind(c.xy, 2, c.quads);
+  const quadopt::ByFaceKind out_k = quadopt::quality_by_kind(out, 2, c.quads);
+  CHECK(r.input_quads.count == c.nq() - nt && r.input_triangles.count == nt);
+  CHECK(r.output_quads.count == c.nq() - nt && r.output_triangles.count == nt);
+  CHECK_MSG(same_kind(r.input_quads, in_k.quads) && same_kind(r.input_triangles, in_k.triangles),
+            c.path << ": report input_* differ from quality_by_kind: quads " << r.input_quads.min << " vs "
+                   << in_k.quads.min << ", triangles " << r.input_triangles.min << " vs " << in_k.triangles.min);
+  CHECK_MSG(same_kind(r.output_quads, out_k.quads) && same_kind(r.output_triangles, out_k.triangles),
+            c.path << ": report output_* differ from quality_by_kind");
+  const quadopt::ByFaceKind ri = quadopt::input_by_kind(r), ro = quadopt::output_by_kind(r);
+  CHECK(same_kind(ri.quads, r.input_quads) && same_kind(ri.triangles, r.input_triangles) &&
+        same_kind(ro.quads, r.output_quads) && same_kind(ro.triangles, r.output_triangles));
+  // The overall statistics are the two kinds together.
+  CHECK(qt::same_bits(std::fmin(r.input_quads.min, r.input_triangles.min), r.input.min));
+  CHECK(qt::same_bits(std::fmin(r.output_quads.min, r.output_triangles.min), r.output.min));
+  const double avg = (r.output_quads.avg * static_cast<double>(r.output_quads.count) +
+                      r.output_triangles.avg * static_cast<double>(nt)) /
+                     static_cast<double>(c.nq());
+  CHECK_MSG(std::fabs(avg - r.output.avg) <= 1e-12, c.path << ": per-kind averages " << avg << " vs " << r.output.avg);
+  // make_data.py inverts a quad and a triangle; the result has neither.
+  CHECK_MSG(r.input_quads.min <= 0 && r.input_triangles.min <= 0 && r.output_quads.min > 0 &&
+                r.output_triangles.min > 0,
+            c.path << ": quads " << r.input_quads.min << " -> " << r.output_quads.min << ", triangles "
+                   << r.input_triangles.min << " -> " << r.output_triangles.min);
+
+  // The adapters report the same, and measure the same afterwards.
+  OMeshD om = load<OMeshD>(c.path);
+  const quadopt::ByFaceKind om_before = quadopt::openmesh::quality_by_kind(om);
+  const quadopt::Report omr = quadopt::openmesh::optimize(om);
+  const quadopt::ByFaceKind om_after = quadopt::openmesh::quality_by_kind(om);
+  CHECK(same_kind(om_before.quads, r.input_quads) && same_kind(om_before.triangles, r.input_triangles));
+  CHECK(same_kind(omr.output_quads, r.output_quads) && same_kind(omr.output_triangles, r.output_triangles));
+  CHECK(same_kind(om_after.quads, r.output_quads) && same_kind(om_after.triangles, r.output_triangles));
+  SM3 sm = surface_mesh3(c.xy, c.quads);
+  const quadopt::Report cr = quadopt::cgal::optimize(sm);
+  CHECK(same_kind(cr.input_triangles, r.input_triangles) && same_kind(cr.output_triangles, r.output_triangles));
+  CHECK(same_kind(quadopt::cgal::quality_by_kind(sm).triangles, r.output_triangles));
+
+  // Every vertex of a triangle fixed: those vertices keep their bits, so the triangles keep
+  // their quality exactly, and nothing gets more inverted.
+  std::vector<std::uint8_t> tri_fixed(c.n(), 0);
+  for (std::size_t f = 0; f < c.nq(); ++f) {
+    if (c.quads[4 * f + 3] != QUADOPT_NO_VERTEX) continue;
+    for (int k = 0; k < 3; ++k) tri_fixed[c.quads[4 * f + k]] = 1;
+  }
+  QuadoptReport rf;
+  const auto fixed_out = run_c(c, default_options(), tri_fixed, rf);
+  bool kept = true;
+  for (std::size_t i = 0; i < c.n(); ++i) {
+    if (tri_fixed[i]) {
+      kept = kept && qt::same_bits(fixed_out[2 * i], c.xy[2 * i]) &&
+             qt::same_bits(fixed_out[2 * i + 1], c.xy[2 * i + 1]);
+    }
+  }
+  CHECK_MSG(kept, c.path << ": a vertex of a fixed triangle moved");
+  CHECK(same_kind(rf.output_triangles, rf.input_triangles));
+  CHECK_MSG(rf.output.inverted <= rf.input.inverted && rf.output_quads.avg > rf.input_quads.avg,
+            c.path << ": triangles fixed: inverted " << rf.input.inverted << " -> " << rf.output.inverted
+                   << ", quads' average " << rf.input_quads.avg << " -> " << rf.output_quads.avg);
 }
 
 template <class M>
-void expect_non_quad(M &m, const char *what) {
-  const M before = m;
+std::vector<double> openmesh_points(const M &m);
+std::vector<double> cgal_points(const SM3 &sm);
+
+/// `fn` must throw quadopt::UnsupportedFace for face `face` of five vertices of `library`
+/// ("<library> face <face> has 5 vertices"); it is also a NonQuadFace, the former name.
+template <class Fn>
+void expect_pentagon_refused(const std::string &what, Fn fn, std::size_t face, const std::string &library) {
   bool thrown = false;
+  std::string message = "no exception";
   try {
-    quadopt::openmesh::optimize(m);
+    fn();
   } catch (const quadopt::NonQuadFace &e) {
-    thrown = e.face() == 2 && e.valence() == 3 && e.status() == QUADOPT_STATUS_INVALID_ARGUMENT &&
-             std::string(e.what()).find("face 2 has 3 vertices") != std::string::npos;
+    message = e.what();
+    const std::string named = library + " face " + std::to_string(face) + " has 5 vertices";
+    thrown = e.face() == face && e.valence() == 5 && e.status() == QUADOPT_STATUS_INVALID_ARGUMENT &&
+             message.find(named) != std::string::npos;
+  } catch (const std::exception &e) {
+    message = e.what();
   }
-  CHECK_MSG(thrown, what << ": no NonQuadFace for the triangle");
-  bool same = true;
-  for (auto v : m.vertices()) same = same && m.point(v) == before.point(v);
-  CHECK(same);
+  CHECK_MSG(thrown, what << ": expected UnsupportedFace for " << library << " face " << face << ", got: " << message);
 }
 
-void test_non_quad() {
+void test_faces() {
+  static_assert(std::is_same<quadopt::NonQuadFace, quadopt::UnsupportedFace>::value, "the former name");
+  // mixed.obj: two quads and a triangle, every vertex on the boundary. Accepted by both
+  // adapters, the triangle kept, the result the C call's.
   const std::string path = g_data + "/mixed.obj";
+  const qt::Mesh exact = qt::read_obj(path);
+  const std::vector<std::uint32_t> want_faces = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 6, QUADOPT_NO_VERTEX};
+  CHECK(exact.quads == want_faces);
+  std::vector<double> ref = exact.xy();
+  QuadoptReport ref_r = quadopt_report_init();
+  CHECK(quadopt_optimize(ref.data(), 2, exact.vertices(), exact.quads.data(), exact.quad_count(), nullptr, nullptr,
+                         &ref_r) == QUADOPT_STATUS_OK);
+  CHECK(ref_r.input_quads.count == 2 && ref_r.input_triangles.count == 1 && ref_r.output_triangles.count == 1);
+  CHECK(ref_r.output.inverted == 0 && ref_r.output.min >= ref_r.input.min);
+
   OMeshD om = load<OMeshD>(path);
   CHECK(om.n_faces() == 3);
-  expect_non_quad(om, "OpenMesh double");
-  OMeshF fm = load<OMeshF>(path);
-  expect_non_quad(fm, "OpenMesh float");
-  CHECK_THROWS_STATUS(quadopt::openmesh::quality(om), QUADOPT_STATUS_INVALID_ARGUMENT);
-
-  SM3 sm;
-  std::vector<SM3::Vertex_index> v;
-  for (auto p : om.vertices()) v.push_back(sm.add_vertex(K::Point_3(om.point(p)[0], om.point(p)[1], 0)));
-  sm.add_face(v[0], v[1], v[4], v[3]);
-  sm.add_face(v[1], v[2], v[5], v[4]);
-  sm.add_face(v[3], v[4], v[6]);
-  const SM3 before = sm;
-  bool thrown = false;
-  try {
-    quadopt::cgal::optimize(sm);
-  } catch (const quadopt::NonQuadFace &e) {
-    thrown = e.face() == 2 && e.valence() == 3 && std::string(e.what()).find("CGAL face 2") != std::string::npos;
-  }
-  CHECK(thrown);
+  const quadopt::openmesh::Arrays arrays = quadopt::openmesh::to_arrays(om);
+  CHECK(arrays.quads == want_faces);
+  const quadopt::Report r = quadopt::openmesh::optimize(om);
+  CHECK_MSG(openmesh_faces(om) == want_faces, "mixed.obj: the OpenMesh mesh's faces changed");
   bool same = true;
-  for (auto x : sm.vertices()) same = same && sm.point(x) == before.point(x);
-  CHECK(same);
+  for (auto v : om.vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    same = same && qt::same_bits(om.point(v)[0], ref[2 * i]) && qt::same_bits(om.point(v)[1], ref[2 * i + 1]);
+  }
+  CHECK_MSG(same, "mixed.obj: the OpenMesh adapter differs from the C call");
+  CHECK(r.input_triangles.count == 1 && same_kind(r.output_triangles, ref_r.output_triangles));
+  OMeshF fm = load<OMeshF>(path);
+  CHECK(quadopt::openmesh::quality(fm).inverted == 0);
+  quadopt::openmesh::optimize(fm);
+  CHECK(openmesh_faces(fm) == want_faces);
+
+  SM3 sm = surface_mesh3(exact.xy(), exact.quads);
+  const quadopt::Report cr = quadopt::cgal::optimize(sm);
+  CHECK_MSG(cgal_faces(sm) == want_faces, "mixed.obj: the CGAL mesh's faces changed");
+  same = true;
+  for (auto v : sm.vertices()) {
+    const auto i = static_cast<std::size_t>(v);
+    same = same && qt::same_bits(sm.point(v).x(), ref[2 * i]) && qt::same_bits(sm.point(v).y(), ref[2 * i + 1]);
+  }
+  CHECK_MSG(same, "mixed.obj: the CGAL adapter differs from the C call");
+  CHECK(cr.output_triangles.count == 1);
+
+  // A pentagon as the third face (face 2): refused, naming it, the mesh unchanged.
+  const std::vector<double> pts = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1, 0.5, 2, 1.5, 2.5, 2, 2};
+  OMeshD pm;
+  std::vector<OMeshD::VertexHandle> vh;
+  for (std::size_t i = 0; i < pts.size() / 2; ++i) {
+    vh.push_back(pm.add_vertex(OMeshD::Point(pts[2 * i], pts[2 * i + 1], 0)));
+  }
+  pm.add_face(std::vector<OMeshD::VertexHandle>{vh[0], vh[1], vh[4], vh[3]});
+  pm.add_face(std::vector<OMeshD::VertexHandle>{vh[1], vh[2], vh[5], vh[4]});
+  pm.add_face(std::vector<OMeshD::VertexHandle>{vh[3], vh[4], vh[8], vh[7], vh[6]});
+  pm.add_face(std::vector<OMeshD::VertexHandle>{vh[4], vh[5], vh[8]});
+  CHECK(pm.n_faces() == 4 && pm.valence(OMeshD::FaceHandle(2)) == 5);
+  const std::vector<double> om_before = openmesh_points(pm);
+  expect_pentagon_refused("OpenMesh, optimize", [&] { quadopt::openmesh::optimize(pm); }, 2, "OpenMesh");
+  expect_pentagon_refused("OpenMesh, quality", [&] { quadopt::openmesh::quality(pm); }, 2, "OpenMesh");
+  CHECK_MSG(qt::same_bits(openmesh_points(pm), om_before), "OpenMesh: a refused mesh was changed");
+  SM3 ps;
+  std::vector<SM3::Vertex_index> sv;
+  for (std::size_t i = 0; i < pts.size() / 2; ++i) {
+    sv.push_back(ps.add_vertex(K::Point_3(pts[2 * i], pts[2 * i + 1], 0)));
+  }
+  ps.add_face(sv[0], sv[1], sv[4], sv[3]);
+  ps.add_face(sv[1], sv[2], sv[5], sv[4]);
+  ps.add_face(std::vector<SM3::Vertex_index>{sv[3], sv[4], sv[8], sv[7], sv[6]});
+  ps.add_face(sv[4], sv[5], sv[8]);
+  CHECK(ps.number_of_faces() == 4);
+  const std::vector<double> cgal_before = cgal_points(ps);
+  expect_pentagon_refused("CGAL, optimize", [&] { quadopt::cgal::optimize(ps); }, 2, "CGAL");
+  expect_pentagon_refused("CGAL, quality", [&] { quadopt::cgal::quality(ps); }, 2, "CGAL");
+  CHECK_MSG(qt::same_bits(cgal_points(ps), cgal_before), "CGAL: a refused mesh was changed");
 
   // A quad mesh whose fixed flags come with the wrong length.
   const Case c = load_case("plate_hole.obj");
@@ -913,7 +1108,7 @@ void test_curved() {
 
 int main(int argc, char **argv) {
   if (argc < 5) {
-    std::cerr << "usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE|--non-quad\n";
+    std::cerr << "usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE|--faces|--planes\n";
     return 2;
   }
   g_data = argv[1];
@@ -921,8 +1116,8 @@ int main(int argc, char **argv) {
   g_tmp = argv[3];
   const std::string which = argv[4];
   try {
-    if (which == "--non-quad") {
-      test_non_quad();
+    if (which == "--faces") {
+      test_faces();
     } else if (which == "--planes") {
       test_tilted_plane();
       test_axis_planes();
@@ -934,6 +1129,10 @@ int main(int argc, char **argv) {
       test_openmesh_adapter(c);
       test_cgal_adapter(c);
       test_cli(c);
+      bool any_triangle = false;
+      for (std::size_t f = 0; f < c.nq(); ++f) any_triangle = any_triangle || c.quads[4 * f + 3] == QUADOPT_NO_VERTEX;
+      CHECK_MSG(any_triangle == (which.rfind("mixed", 0) == 0), which << ": triangles where none were expected, or none");
+      if (any_triangle) test_face_kinds(c);
     }
   } catch (const std::exception &e) {
     CHECK_MSG(false, "unexpected exception: " << e.what());

@@ -1,8 +1,9 @@
 /* The C shim of crates/openmesh-sys (openmesh_shim.h) used from C99, built into this test from
  * its source so that the sanitizer build instruments it: every function, the error paths (bad
  * arguments, unreadable, truncated and corrupt data, faces OpenMesh cannot add) and the handle
- * lifetime, with LeakSanitizer on. Checked: statuses, messages, counts, and that what is
- * written comes back bit for bit (OM) or as float (PLY). */
+ * lifetime, with LeakSanitizer on. Checked: statuses, messages, counts, that what is written
+ * comes back bit for bit (OM) or as float (PLY), and that triangles and other non-quads are
+ * read and written as they are (the shim takes faces of any arity). */
 #include "openmesh_shim.h"
 
 #include <stdio.h>
@@ -146,10 +147,54 @@ static void test_errors(void) {
   omsys_mesh_free(NULL);
 }
 
+/* Faces of three, four and five vertices: the shim takes any arity, and OM and PLY (ASCII and
+ * binary) give them back as written, nothing dropped. */
+static void test_mixed_faces(void) {
+  static const char ply[] =
+      "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n1 2 0\n4 0 1 4 3\n4 1 2 5 4\n3 3 4 6\n";
+  const double pts[27] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0, 0.5, 2, 0, 1.5, 2.5, 0, 2, 2, 0};
+  const uint32_t offs[5] = {0, 4, 8, 13, 16};
+  const uint32_t idx[16] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 8, 7, 6, 4, 5, 8};
+  const char *formats[3] = {"om", "ply", "ply"};
+  OmsysMesh *m = omsys_mesh_new();
+  OmsysCounts c;
+  OmsysReadInfo info;
+  double points[27];
+  uint32_t boffs[5], bidx[16];
+  int k;
+  /* A triangle in a PLY file: a 3-vertex face. */
+  CHECK(read_text(m, ply, sizeof ply - 1, "ply") == OMSYS_OK);
+  CHECK(omsys_mesh_counts(m, &c) == OMSYS_OK && c.vertices == 7 && c.faces == 3 && c.face_indices == 11);
+  CHECK(omsys_read_info(m, &info) == OMSYS_OK && info.dropped_faces == 0 && info.face_records == 3);
+  CHECK(omsys_mesh_get(m, points, 21, boffs, 4, bidx, 11, NULL, 0) == OMSYS_OK);
+  CHECK(boffs[2] == 8 && boffs[3] == 11 && bidx[8] == 3 && bidx[9] == 4 && bidx[10] == 6);
+  omsys_mesh_free(m);
+  for (k = 0; k < 3; ++k) {
+    OmsysMesh *w = omsys_mesh_new(), *r = omsys_mesh_new();
+    OmsysWriteOptions wo;
+    const uint8_t *data = NULL;
+    size_t len = 0;
+    wo.binary = k == 2;
+    CHECK(omsys_mesh_set(w, pts, 9, offs, 4, idx, 16, NULL) == OMSYS_OK);
+    CHECK(omsys_write(w, formats[k], &wo) == OMSYS_OK);
+    CHECK(omsys_output(w, &data, &len) == OMSYS_OK && len > 0);
+    CHECK(omsys_read(r, data, len, formats[k]) == OMSYS_OK);
+    CHECK(omsys_mesh_counts(r, &c) == OMSYS_OK && c.vertices == 9 && c.faces == 4 && c.face_indices == 16);
+    CHECK(omsys_mesh_get(r, points, 27, boffs, 5, bidx, 16, NULL, 0) == OMSYS_OK);
+    CHECK(memcmp(boffs, offs, sizeof offs) == 0 && memcmp(bidx, idx, sizeof idx) == 0);
+    CHECK(memcmp(points, pts, sizeof pts) == 0); /* every coordinate is a float */
+    omsys_mesh_free(w);
+    omsys_mesh_free(r);
+  }
+}
+
 int main(void) {
   test_read_ply();
   test_write_and_read_back();
   test_errors();
+  test_mixed_faces();
   if (failures) {
     fprintf(stderr, "openmesh_shim_test: %d checks failed\n", failures);
     return 1;

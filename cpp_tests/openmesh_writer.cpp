@@ -11,6 +11,9 @@
 //    bit for bit the C++ result, the same faces, and the fixed flags in the property and the
 //    locked status.
 //
+// mixed_grid.obj, quads and triangles: the triangles come back as triangles (the same faces).
+// A PLY with a pentagon, written from C++, is refused by the CLI naming the face.
+//
 // Usage: openmesh_writer DATA_DIR CLI TMP_DIR. CMake registers it only for a CLI with OpenMesh
 // support; one without fails at once, saying so.
 #include "test_support.hpp"
@@ -20,6 +23,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -100,6 +104,9 @@ void run_case(const std::string &data, const std::string &cli, const std::string
     CHECK_MSG(qt::same_bits(got, want),
               cmd << ": coordinates differ from the C++ path, first at index " << qt::first_difference(got, want));
     CHECK_MSG(faces_of(rust) == faces_of(m), cmd << ": the faces changed");
+    std::size_t triangles = 0;
+    for (auto fh : rust.faces()) triangles += rust.valence(fh) == 3 ? 1 : 0;
+    CHECK_MSG((triangles > 0) == (file.rfind("mixed", 0) == 0), cmd << ": " << triangles << " triangles");
     OpenMesh::VPropHandleT<unsigned char> back;
     CHECK_MSG(rust.get_property_handle(back, "fixed"), cmd << ": no vertex property 'fixed'");
     bool flags_ok = rust.n_vertices() == n && rust.get_property_handle(back, "fixed");
@@ -109,6 +116,31 @@ void run_case(const std::string &data, const std::string &cli, const std::string
     }
     CHECK_MSG(flags_ok, cmd << ": the fixed flags differ");
   }
+}
+
+/// Two quads, a pentagon (face 2) and a triangle, written as PLY: the CLI refuses the file,
+/// naming the pentagon, and writes nothing.
+void pentagon_refused(const std::string &cli, const std::string &tmp) {
+  Mesh m;
+  const double pts[9][2] = {{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}, {0.5, 2}, {1.5, 2.5}, {2, 2}};
+  std::vector<Mesh::VertexHandle> v;
+  for (const auto &p : pts) v.push_back(m.add_vertex(Mesh::Point(p[0], p[1], 0)));
+  m.add_face(std::vector<Mesh::VertexHandle>{v[0], v[1], v[4], v[3]});
+  m.add_face(std::vector<Mesh::VertexHandle>{v[1], v[2], v[5], v[4]});
+  m.add_face(std::vector<Mesh::VertexHandle>{v[3], v[4], v[8], v[7], v[6]});
+  m.add_face(std::vector<Mesh::VertexHandle>{v[4], v[5], v[8]});
+  CHECK(m.n_faces() == 4);
+  const std::string in = tmp + "/cxx_pentagon.ply", out = tmp + "/cxx_pentagon_out.om";
+  CHECK(OpenMesh::IO::write_mesh(m, in));
+  std::remove(out.c_str());
+  const std::string cmd = "\"" + cli + "\" optimize \"" + in + "\" -o \"" + out + "\" 2> \"" + out + ".err\"";
+  const int rc = qt::run(cmd, out + ".log");
+  const std::string said = qt::slurp(out + ".err");
+  CHECK_MSG(rc != 0 && said.find("face 2 has 5 vertices") != std::string::npos,
+            cmd << " exited with " << rc << ": " << said);
+  std::FILE *f = std::fopen(out.c_str(), "rb");
+  CHECK_MSG(f == nullptr, out << " was written");
+  if (f) std::fclose(f);
 }
 
 }  // namespace
@@ -127,6 +159,7 @@ int main(int argc, char **argv) {
               << "yet this test was registered for it\n";
     return 1;
   }
-  for (const char *file : {"plate_hole.obj", "jittered_grid.off"}) run_case(data, cli, tmp, file);
+  for (const char *file : {"plate_hole.obj", "jittered_grid.off", "mixed_grid.obj"}) run_case(data, cli, tmp, file);
+  pentagon_refused(cli, tmp);
   return qt::finish("openmesh_writer");
 }

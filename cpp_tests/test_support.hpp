@@ -85,12 +85,18 @@ inline long first_difference(const std::vector<double> &a, const std::vector<dou
   return -1;
 }
 
-/// A mesh as flat arrays: x, y, z per vertex and 4 indices per quad.
+/// A mesh as flat arrays: x, y, z per vertex and 4 slots per face (a triangle's fourth is
+/// QUADOPT_NO_VERTEX).
 struct Mesh {
   std::vector<double> xyz;
   std::vector<std::uint32_t> quads;
   std::size_t vertices() const { return xyz.size() / 3; }
   std::size_t quad_count() const { return quads.size() / 4; }
+  std::size_t triangle_count() const {
+    std::size_t t = 0;
+    for (std::size_t f = 0; f < quad_count(); ++f) t += quads[4 * f + 3] == QUADOPT_NO_VERTEX ? 1 : 0;
+    return t;
+  }
   /// x, y per vertex.
   std::vector<double> xy() const {
     std::vector<double> out(2 * vertices());
@@ -102,7 +108,8 @@ struct Mesh {
   }
 };
 
-/// Reads the `v` and 4-vertex `f` lines of an OBJ file with strtod (exact to the last bit).
+/// Reads the `v` and the 3- and 4-vertex `f` lines of an OBJ file with strtod (exact to the last
+/// bit); a triangle gets QUADOPT_NO_VERTEX fourth.
 inline Mesh read_obj(const std::string &path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + path);
@@ -123,7 +130,8 @@ inline Mesh read_obj(const std::string &path) {
         m.quads.push_back(static_cast<std::uint32_t>(std::stoul(t.substr(0, t.find('/'))) - 1));
         ++n;
       }
-      if (n != 4) throw std::runtime_error(path + ": not a quad: " + line);
+      if (n == 3) m.quads.push_back(QUADOPT_NO_VERTEX);
+      if (n != 3 && n != 4) throw std::runtime_error(path + ": not a quad or a triangle: " + line);
     }
   }
   return m;
@@ -173,6 +181,20 @@ inline double json_number(const std::string &json, const std::string &key, const
   std::size_t from = 0;
   if (!object.empty()) {
     from = json.find("\"" + object + "\":{");
+    if (from == std::string::npos) throw std::runtime_error("no object " + object + " in " + json);
+  }
+  const std::string k = "\"" + key + "\":";
+  const std::size_t at = json.find(k, from);
+  if (at == std::string::npos) throw std::runtime_error("no key " + key + " in " + json);
+  return std::strtod(json.c_str() + at + k.size(), nullptr);
+}
+
+/// The number after `"key":` in `json`, searching from the objects named in `path` in turn
+/// (`{"output_by_kind", "triangles"}`: the triangles' object inside output_by_kind).
+inline double json_number_in(const std::string &json, const std::vector<std::string> &path, const std::string &key) {
+  std::size_t from = 0;
+  for (const auto &object : path) {
+    from = json.find("\"" + object + "\":{", from);
     if (from == std::string::npos) throw std::runtime_error("no object " + object + " in " + json);
   }
   const std::string k = "\"" + key + "\":";

@@ -3,9 +3,16 @@
 //   #include <quadopt.hpp>
 //
 //   std::vector<double> xy = ...;              // 2 (or 3) doubles per vertex
-//   std::vector<std::uint32_t> quads = ...;    // 4 vertex indices per quad
+//   std::vector<std::uint32_t> quads = ...;    // 4 vertex indices per face
 //   quadopt::Report r = quadopt::optimize(xy, 2, quads,
 //       quadopt::Options().boundary(quadopt::Boundary::Slide).max_iterations(500));
+//
+// Faces: four indices per face, a quad as its four vertices and a triangle as its three
+// followed by quadopt::no_vertex (QUADOPT_NO_VERTEX), so a quad-dominant mesh (quads and
+// triangles) goes through the same arrays and calls as a quad mesh; triangles are kept as
+// triangles. quadopt::triangle(a, b, c) gives a triangle's four slots; the report's input_quads,
+// input_triangles, output_quads and output_triangles split the statistics by kind
+// (quadopt::input_by_kind(), quadopt::output_by_kind(), quadopt::quality_by_kind()).
 //
 // Every failure throws quadopt::Error, which carries the C status code and the library's
 // detailed message; a mesh too large for the memory available is one too (status
@@ -21,10 +28,12 @@
 #include "quadopt.h"
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -72,15 +81,16 @@ class Error : public std::runtime_error {
   std::string message_;
 };
 
-/// Thrown by the mesh adapters for a face that is not a quad (status
-/// QUADOPT_STATUS_INVALID_ARGUMENT): quadopt optimizes pure quad meshes only.
-class NonQuadFace : public Error {
+/// Thrown by the mesh adapters for a face that is neither a triangle nor a quad (five or more
+/// vertices; status QUADOPT_STATUS_INVALID_ARGUMENT): quadopt optimizes meshes of quads and
+/// triangles. The message names the face ("OpenMesh face 7 has 5 vertices; ...").
+class UnsupportedFace : public Error {
  public:
   /// Face `face` (the mesh library's face index) has `valence` vertices.
-  NonQuadFace(std::size_t face, std::size_t valence, const std::string &library)
+  UnsupportedFace(std::size_t face, std::size_t valence, const std::string &library)
       : Error(QUADOPT_STATUS_INVALID_ARGUMENT,
               library + " face " + std::to_string(face) + " has " + std::to_string(valence) +
-                  " vertices; quadopt optimizes pure quad meshes only"),
+                  " vertices; quadopt optimizes quads and triangles only"),
         face_(face),
         valence_(valence) {}
   /// The face's index in the mesh.
@@ -92,6 +102,35 @@ class NonQuadFace : public Error {
   std::size_t face_;
   std::size_t valence_;
 };
+
+/// The name of UnsupportedFace from when the adapters took quads only (code that catches it
+/// keeps compiling and catches the same errors).
+using NonQuadFace = UnsupportedFace;
+
+/// The fourth index of a triangle in a face array (QUADOPT_NO_VERTEX): never a vertex.
+constexpr std::uint32_t no_vertex = QUADOPT_NO_VERTEX;
+
+/// The four slots of the triangle (a, b, c): {a, b, c, no_vertex}.
+constexpr std::array<std::uint32_t, 4> triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) noexcept {
+  return {a, b, c, no_vertex};
+}
+
+/// Whether the face whose four slots start at `face` is a triangle (its fourth is no_vertex).
+constexpr bool is_triangle(const std::uint32_t *face) noexcept { return face[3] == no_vertex; }
+
+/// Quality statistics of the faces of one kind: count, min and avg (NaN when count is 0).
+using FaceKindQuality = QuadoptFaceKindQuality;
+
+/// Quality statistics of a mesh's quads and of its triangles, apart.
+struct ByFaceKind {
+  FaceKindQuality quads;      ///< over the quads
+  FaceKindQuality triangles;  ///< over the triangles (count 0, NaN min and avg in a quad mesh)
+};
+
+/// The report's input statistics by kind (input_quads, input_triangles).
+inline ByFaceKind input_by_kind(const Report &r) noexcept { return {r.input_quads, r.input_triangles}; }
+/// The report's output statistics by kind (output_quads, output_triangles).
+inline ByFaceKind output_by_kind(const Report &r) noexcept { return {r.output_quads, r.output_triangles}; }
 
 /// Throws Error(status, quadopt_last_error()) unless status is QUADOPT_STATUS_OK.
 inline void check(Status status) {
@@ -247,9 +286,28 @@ inline std::size_t vertex_count(std::size_t coords, std::uint32_t dim) {
 inline std::size_t quad_count(std::size_t indices) {
   if (indices % 4 != 0) {
     throw Error(QUADOPT_STATUS_INVALID_ARGUMENT,
-                std::to_string(indices) + " quad indices are not a multiple of 4");
+                std::to_string(indices) + " face indices are not a multiple of 4");
   }
   return indices / 4;
+}
+
+/// Statistics of `values` (one per face of `faces`, four slots per face) split by kind, in face
+/// order, as the library computes them (the same sum, so the same bits).
+inline ByFaceKind split_by_kind(const std::uint32_t *faces, const std::vector<double> &values) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  FaceKindQuality q{0, nan, nan}, t{0, nan, nan};
+  double sum_q = 0.0, sum_t = 0.0;
+  for (std::size_t f = 0; f < values.size(); ++f) {
+    FaceKindQuality &k = is_triangle(faces + 4 * f) ? t : q;
+    double &sum = is_triangle(faces + 4 * f) ? sum_t : sum_q;
+    const double v = values[f];
+    k.min = k.count == 0 ? v : std::fmin(k.min, v);
+    sum += v;
+    ++k.count;
+  }
+  if (q.count > 0) q.avg = sum_q / static_cast<double>(q.count);
+  if (t.count > 0) t.avg = sum_t / static_cast<double>(t.count);
+  return {q, t};
 }
 
 inline const std::uint8_t *fixed_ptr(const std::vector<std::uint8_t> &fixed, std::size_t n) {
@@ -266,8 +324,9 @@ inline const std::uint8_t *fixed_ptr(const std::vector<std::uint8_t> &fixed, std
 }  // namespace detail
 
 /// Optimizes `coords` (`dim` = 2 or 3 doubles per vertex; x and y are moved, z is untouched)
-/// in place. `quads` holds 4 indices per quad; `fixed` is empty or holds one flag per vertex
-/// (nonzero: the vertex never moves). Throws Error on failure, leaving `coords` untouched.
+/// in place. `quads` holds 4 indices per face (`quad_count` faces; a triangle's fourth is
+/// no_vertex); `fixed` is empty or holds one flag per vertex (nonzero: the vertex never moves).
+/// Throws Error on failure, leaving `coords` untouched.
 inline Report optimize(double *coords, std::uint32_t dim, std::size_t vertex_count,
                        const std::uint32_t *quads, std::size_t quad_count,
                        const std::uint8_t *fixed = nullptr, const Options &options = Options()) {
@@ -278,7 +337,8 @@ inline Report optimize(double *coords, std::uint32_t dim, std::size_t vertex_cou
   return report;
 }
 
-/// optimize() on vectors: `coords.size()` must be a multiple of `dim`, `quads.size()` of 4.
+/// optimize() on vectors: `coords.size()` must be a multiple of `dim`, `quads.size()` of 4
+/// (quads and triangles, four slots per face).
 inline Report optimize(std::vector<double> &coords, std::uint32_t dim, const std::vector<std::uint32_t> &quads,
                        const Options &options = Options(), const std::vector<std::uint8_t> &fixed = {}) {
   const std::size_t n = detail::vertex_count(coords.size(), dim);
@@ -286,8 +346,9 @@ inline Report optimize(std::vector<double> &coords, std::uint32_t dim, const std
                   detail::fixed_ptr(fixed, n), options);
 }
 
-/// Quality statistics of a mesh; fills `per_quad` (resized to the quad count) with each quad's
-/// signed scaled Jacobian when it is given. Throws Error on an invalid mesh.
+/// Quality statistics of a mesh (every face); fills `per_quad` (resized to the face count) with
+/// each face's signed scaled Jacobian when it is given (a triangle's is Verdict's triangle
+/// scaled Jacobian). Throws Error on an invalid mesh.
 inline Quality quality(const double *coords, std::uint32_t dim, std::size_t vertex_count,
                        const std::uint32_t *quads, std::size_t quad_count,
                        std::vector<double> *per_quad = nullptr) {
@@ -306,6 +367,16 @@ inline Quality quality(const std::vector<double> &coords, std::uint32_t dim, con
                        std::vector<double> *per_quad = nullptr) {
   return quality(coords.data(), dim, detail::vertex_count(coords.size(), dim), quads.data(),
                  detail::quad_count(quads.size()), per_quad);
+}
+
+/// Quality statistics of a mesh's quads and of its triangles apart (count, min, avg of each,
+/// the same numbers as a report's input_quads and input_triangles for these coordinates).
+/// Throws Error on an invalid mesh.
+inline ByFaceKind quality_by_kind(const std::vector<double> &coords, std::uint32_t dim,
+                                  const std::vector<std::uint32_t> &faces) {
+  std::vector<double> per_face;
+  quality(coords, dim, faces, &per_face);
+  return detail::split_by_kind(faces.data(), per_face);
 }
 
 /// A reusable optimizer: the connectivity (and the fixed flags) validated and its topology

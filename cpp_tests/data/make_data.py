@@ -6,7 +6,10 @@
   square's sides and around the circle, so both the interior and the boundary have work to do.
 - jittered_grid.off / jittered_grid.obj: an 8 x 8 grid on [0, 8]^2, jittered, with one interior
   vertex dragged across its neighbour's edge so that quads are inverted.
-- mixed.obj: two quads and a triangle (the adapters must refuse it).
+- mixed.obj: two quads and a triangle (the adapters take it and keep the triangle).
+- mixed_grid.obj / mixed_grid.off: a quad-dominant mesh, an 8 x 8 grid on [0, 8]^2 with every
+  fifth cell (i + 2 j = 0 mod 5) split into two triangles, jittered like jittered_grid, with one
+  interior vertex dragged so that quads and a triangle are inverted.
 
 Coordinates are float32 values (see f32) written with 17 significant digits, so every reader
 loads them bit for bit.
@@ -50,7 +53,14 @@ def write_off(path, points, faces):
 
 
 def min_sj(points, q):
-    """Signed scaled Jacobian of a counter-clockwise quad (minimum over its corners)."""
+    """Signed scaled Jacobian of a counter-clockwise quad (minimum over its corners), or of a
+    triangle (Verdict's: twice its signed area over the largest product of two edge lengths,
+    times 2/sqrt(3); 1 for an equilateral one)."""
+    if len(q) == 3:
+        (ax, ay), (bx, by), (cx, cy) = (points[v] for v in q)
+        cross = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        la, lb, lc = math.hypot(bx - ax, by - ay), math.hypot(cx - bx, cy - by), math.hypot(ax - cx, ay - cy)
+        return cross / max(la * lb, lb * lc, lc * la) * 2 / math.sqrt(3)
     best = 1.0
     for c in range(4):
         p = points[q[c]]
@@ -127,6 +137,41 @@ def grid(rng):
     return points, quads
 
 
+def mixed_grid(rng):
+    """The jittered grid's construction with every fifth cell split into two triangles."""
+    n = 8
+    points = []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, y = float(i), float(j)
+            interior_x = 0 < i < n
+            interior_y = 0 < j < n
+            if interior_x and interior_y:
+                x += rng.uniform(-0.25, 0.25)
+                y += rng.uniform(-0.25, 0.25)
+            elif interior_x:
+                x += rng.uniform(-0.2, 0.2)
+            elif interior_y:
+                y += rng.uniform(-0.2, 0.2)
+            points.append((f32(x), f32(y)))
+    faces = []
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            if (i + 2 * j) % 5 == 0:
+                faces.append((a, a + 1, a + n + 2))
+                faces.append((a, a + n + 2, a + n + 1))
+            else:
+                faces.append((a, a + 1, a + n + 2, a + n + 1))
+    # Drag vertex (3, 2) past its right-hand neighbour: its faces fold over, the triangle of the
+    # split cell (3, 1) among them.
+    v = 2 * (n + 1) + 3
+    points[v] = (f32(points[v + 1][0] + 0.35), f32(points[v][1] + 0.1))
+    inverted = [f for f in faces if min_sj(points, f) <= 0]
+    assert any(len(f) == 3 for f in inverted) and any(len(f) == 4 for f in inverted), inverted
+    return points, faces
+
+
 def main():
     rng = random.Random(20240611)
     points, quads = plate(rng)
@@ -141,6 +186,11 @@ def main():
     mixed = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0), (1.0, 2.0)]
     write_obj(os.path.join(HERE, "mixed.obj"), mixed, [(0, 1, 4, 3), (1, 2, 5, 4), (3, 4, 6)],
               "two quads and a triangle (cpp_tests/data/make_data.py)")
+    points, faces = mixed_grid(random.Random(20261206))
+    c = "quad-dominant 8x8 grid with inverted faces: %d vertices, %d quads, %d triangles (cpp_tests/data/make_data.py)" % (
+        len(points), sum(len(f) == 4 for f in faces), sum(len(f) == 3 for f in faces))
+    write_off(os.path.join(HERE, "mixed_grid.off"), points, faces)
+    write_obj(os.path.join(HERE, "mixed_grid.obj"), points, faces, c)
 
 
 if __name__ == "__main__":

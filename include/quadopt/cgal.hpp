@@ -1,4 +1,4 @@
-// quadopt/cgal.hpp: optimize a CGAL::Surface_mesh of quads in place.
+// quadopt/cgal.hpp: optimize a CGAL::Surface_mesh of quads, or of quads and triangles, in place.
 //
 //   #include <CGAL/Simple_cartesian.h>
 //   #include <CGAL/Surface_mesh.h>
@@ -18,8 +18,12 @@
 //
 // Fixed vertices: a vertex property map of bool named MeshOptions::fixed_property ("v:fixed"
 // by default), if the mesh has one; true means the vertex never moves. Removed (garbage)
-// vertices and faces are skipped. Only pure quad meshes are accepted: another face throws
-// quadopt::NonQuadFace.
+// vertices and faces are skipped.
+//
+// Faces: quads and triangles. Triangles are kept as triangles and optimized with the quads
+// (four slots per face in the arrays, a triangle's fourth being quadopt::no_vertex). A face of
+// five or more vertices throws quadopt::UnsupportedFace (formerly NonQuadFace, still a name for
+// it) naming the face, and the mesh is left unchanged.
 #ifndef QUADOPT_CGAL_HPP
 #define QUADOPT_CGAL_HPP
 
@@ -57,7 +61,8 @@ struct Arrays {
   /// The 2D coordinates of every vertex in the mesh's plane (x, y for Point_2 and for a
   /// Point_3 mesh in a plane z = const).
   std::vector<double> xy;
-  /// 4 indices into `vertices` per face, in the mesh's face order.
+  /// 4 slots per face, in the mesh's face order: a quad's four indices into `vertices`, or a
+  /// triangle's three and quadopt::no_vertex.
   std::vector<std::uint32_t> quads;
   /// One flag per vertex (nonzero: fixed); empty when no vertex is fixed.
   std::vector<std::uint8_t> fixed;
@@ -114,7 +119,7 @@ P with_plane_point(const P &p, const double q[3], const planar::Frame &frame) {
 
 }  // namespace detail
 
-/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad and
+/// Reads `mesh` into flat arrays; throws UnsupportedFace on a face of five or more vertices and
 /// NotPlanar on a Point_3 mesh that does not lie in a plane.
 template <class P>
 Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = MeshOptions()) {
@@ -147,12 +152,15 @@ Arrays<P> to_arrays(const CGAL::Surface_mesh<P> &mesh, const MeshOptions &mo = M
   std::vector<std::uint8_t> used(a.vertices.size(), 0);
   for (auto f : mesh.faces()) {
     const std::size_t valence = mesh.degree(f);
-    if (valence != 4) {
-      throw NonQuadFace(static_cast<std::size_t>(f), valence, "CGAL");
+    if (valence != 3 && valence != 4) {
+      throw UnsupportedFace(static_cast<std::size_t>(f), valence, "CGAL");
     }
     for (V v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
       a.quads.push_back(compact[static_cast<std::size_t>(v)]);
       used[compact[static_cast<std::size_t>(v)]] = 1;
+    }
+    if (valence == 3) {
+      a.quads.push_back(no_vertex);
     }
   }
   if constexpr (CGAL::Ambient_dimension<P>::value == 3) {
@@ -193,9 +201,10 @@ void write_back(CGAL::Surface_mesh<P> &mesh, const Arrays<P> &a, const std::vect
   }
 }
 
-/// Optimizes `mesh` in place and returns the report. Throws Error (NonQuadFace for a face that
-/// is not a quad, NotPlanar for a mesh that is not planar) and leaves the mesh unchanged on any
-/// failure.
+/// Optimizes `mesh` in place and returns the report (with per-kind statistics in input_quads,
+/// input_triangles, output_quads, output_triangles). Throws Error (UnsupportedFace for a face of
+/// five or more vertices, NotPlanar for a mesh that is not planar) and leaves the mesh
+/// unchanged on any failure.
 template <class P>
 Report optimize(CGAL::Surface_mesh<P> &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
   const Arrays<P> a = to_arrays(mesh, mo);
@@ -213,6 +222,16 @@ Quality quality(const CGAL::Surface_mesh<P> &mesh, std::vector<double> *per_quad
   mo.fixed_property.clear();
   const Arrays<P> a = to_arrays(mesh, mo);
   return quadopt::quality(a.xy, 2, a.quads, per_quad);
+}
+
+/// The quality of `mesh`'s quads and of its triangles apart (count, min, avg of each), measured
+/// in its plane. Throws as to_arrays() does.
+template <class P>
+ByFaceKind quality_by_kind(const CGAL::Surface_mesh<P> &mesh) {
+  MeshOptions mo;
+  mo.fixed_property.clear();
+  const Arrays<P> a = to_arrays(mesh, mo);
+  return quadopt::quality_by_kind(a.xy, 2, a.quads);
 }
 
 }  // namespace cgal

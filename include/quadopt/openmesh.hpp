@@ -1,4 +1,5 @@
-// quadopt/openmesh.hpp: optimize an OpenMesh polygon mesh of quads in place.
+// quadopt/openmesh.hpp: optimize an OpenMesh polygon mesh of quads, or of quads and triangles,
+// in place.
 //
 //   #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 //   #include <quadopt/openmesh.hpp>
@@ -21,7 +22,13 @@
 // Fixed vertices: with vertex status (mesh.request_vertex_status()), locked vertices and, by
 // default, feature vertices never move; MeshOptions::fixed adds a caller's flags. Deleted
 // faces are skipped and deleted vertices are held fixed (call garbage_collection() first to
-// drop them). Only pure quad meshes are accepted: another face throws quadopt::NonQuadFace.
+// drop them).
+//
+// Faces: quads and triangles (a quad-dominant PolyMesh). Triangles are kept as triangles and
+// optimized with the quads; the arrays hold four slots per face, a triangle's fourth being
+// quadopt::no_vertex. A face of five or more vertices throws
+// quadopt::UnsupportedFace (formerly NonQuadFace, still a name for it) naming the face, and
+// the mesh is left unchanged.
 #ifndef QUADOPT_OPENMESH_HPP
 #define QUADOPT_OPENMESH_HPP
 
@@ -56,7 +63,8 @@ struct Arrays {
   /// The 2D coordinates of every vertex (by OpenMesh vertex index) in the mesh's plane: x, y
   /// for a mesh in a plane z = const or of 2D points.
   std::vector<double> xy;
-  /// 4 vertex indices per non-deleted face, in the mesh's face order.
+  /// 4 slots per non-deleted face, in the mesh's face order: a quad's four vertex indices, or
+  /// a triangle's three and quadopt::no_vertex.
   std::vector<std::uint32_t> quads;
   /// One flag per vertex (nonzero: fixed); empty when no vertex is fixed.
   std::vector<std::uint8_t> fixed;
@@ -64,9 +72,9 @@ struct Arrays {
   planar::Frame frame;
 };
 
-/// Reads `mesh` into flat arrays; throws NonQuadFace on a face that is not a quad, NotPlanar
-/// on a 3D mesh that does not lie in a plane, and Error on a mesh too large for 32-bit
-/// indices or a `fixed` of the wrong length.
+/// Reads `mesh` into flat arrays; throws UnsupportedFace on a face of five or more vertices,
+/// NotPlanar on a 3D mesh that does not lie in a plane, and Error on a mesh too large for
+/// 32-bit indices or a `fixed` of the wrong length.
 template <class Mesh>
 Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
   constexpr std::size_t dim = OpenMesh::vector_traits<typename Mesh::Point>::size_;
@@ -88,12 +96,15 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
       continue;
     }
     const std::size_t valence = mesh.valence(fh);
-    if (valence != 4) {
-      throw NonQuadFace(f, valence, "OpenMesh");
+    if (valence != 3 && valence != 4) {
+      throw UnsupportedFace(f, valence, "OpenMesh");
     }
     for (auto vh : mesh.fv_range(fh)) {
       a.quads.push_back(static_cast<std::uint32_t>(vh.idx()));
       used[static_cast<std::size_t>(vh.idx())] = 1;
+    }
+    if (valence == 3) {
+      a.quads.push_back(no_vertex);
     }
   }
   std::vector<double> xyz(3 * n, 0.0);
@@ -149,9 +160,10 @@ void write_back(Mesh &mesh, const Arrays &a, const std::vector<double> &xy) {
   }
 }
 
-/// Optimizes `mesh` in place and returns the report. Throws Error (NonQuadFace for a face that
-/// is not a quad, NotPlanar for a mesh that is not planar) and leaves the mesh unchanged on any
-/// failure.
+/// Optimizes `mesh` in place and returns the report (with per-kind statistics in input_quads,
+/// input_triangles, output_quads, output_triangles). Throws Error (UnsupportedFace for a face of
+/// five or more vertices, NotPlanar for a mesh that is not planar) and leaves the mesh
+/// unchanged on any failure.
 template <class Mesh>
 Report optimize(Mesh &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
   const Arrays a = to_arrays(mesh, mo);
@@ -161,8 +173,8 @@ Report optimize(Mesh &mesh, const Options &options = Options(), const MeshOption
   return r;
 }
 
-/// Quality statistics of `mesh`, measured in its plane (and each quad's scaled Jacobian in
-/// `per_quad`, in the order of the mesh's non-deleted faces, when given). Throws as
+/// Quality statistics of `mesh` over every face, measured in its plane (and each face's scaled
+/// Jacobian in `per_quad`, in the order of the mesh's non-deleted faces, when given). Throws as
 /// to_arrays() does.
 template <class Mesh>
 Quality quality(const Mesh &mesh, std::vector<double> *per_quad = nullptr) {
@@ -171,6 +183,17 @@ Quality quality(const Mesh &mesh, std::vector<double> *per_quad = nullptr) {
   mo.feature_is_fixed = false;
   const Arrays a = to_arrays(mesh, mo);
   return quadopt::quality(a.xy, 2, a.quads, per_quad);
+}
+
+/// The quality of `mesh`'s quads and of its triangles apart (count, min, avg of each), measured
+/// in its plane. Throws as to_arrays() does.
+template <class Mesh>
+ByFaceKind quality_by_kind(const Mesh &mesh) {
+  MeshOptions mo;
+  mo.locked_is_fixed = false;
+  mo.feature_is_fixed = false;
+  const Arrays a = to_arrays(mesh, mo);
+  return quadopt::quality_by_kind(a.xy, 2, a.quads);
 }
 
 }  // namespace openmesh

@@ -240,7 +240,7 @@ fn checked_formats_still_read() {
         .flat_map(|&b| if b == b'\n' { vec![b'\r', b'\n'] } else { vec![b] })
         .collect::<Vec<_>>();
     assert_eq!(read_bytes(&crlf, Format::Ply).unwrap().0.face_count(), 2);
-    let signs = ply("4 0 1 4 3\n4 1 2 5 4\n").iter().map(|&b| b).collect::<Vec<_>>();
+    let signs = ply("4 0 1 4 3\n4 1 2 5 4\n");
     let signs = String::from_utf8(signs).unwrap().replace("1 0 0\n", "+1.0e0 -0 .0\n");
     assert_eq!(read_bytes(signs.as_bytes(), Format::Ply).unwrap().0.points[1], [1.0, 0.0, 0.0]);
     let off = "OFF\n4 1 0\n0 0 0 extra\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";

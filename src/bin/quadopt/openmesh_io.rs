@@ -2,7 +2,9 @@
 //! are always read and written with OpenMesh; `--reader openmesh` also reads `.obj` and `.off`
 //! with it (as an OpenMesh-based tool would load them). Every other case goes to quadopt's own
 //! readers and writers (`quadopt::io`). Without the feature, `.ply` and `.om` are an error that
-//! says how to get them.
+//! says how to get them. Faces of three vertices are triangles (`NO_VERTEX` fourth in
+//! `MeshData`), written back as three-vertex faces; a face of five or more vertices is an error
+//! naming it.
 
 use quadopt::io::{self, MeshData};
 use std::path::Path;
@@ -133,16 +135,18 @@ pub fn write_mesh(path: &Path, data: &MeshData) -> Result<(), String> {
     Err(without_openmesh(path))
 }
 
-/// OpenMesh's arrays as quadopt's mesh: every face must be a quad.
+/// OpenMesh's arrays as quadopt's mesh: every face must be a quad or a triangle (a triangle
+/// gets [`NO_VERTEX`](quadopt::face::NO_VERTEX) in its fourth slot, as in `quadopt::face`).
 #[cfg(feature = "openmesh")]
 fn to_mesh_data(a: &openmesh_sys::MeshArrays) -> Result<MeshData, String> {
     let mut quads = Vec::with_capacity(a.face_count());
     for (f, face) in a.faces().enumerate() {
-        match face {
-            &[v0, v1, v2, v3] => quads.push([v0, v1, v2, v3]),
+        match *face {
+            [v0, v1, v2, v3] => quads.push([v0, v1, v2, v3]),
+            [v0, v1, v2] => quads.push(quadopt::face::triangle(v0, v1, v2)),
             _ => {
                 return Err(format!(
-                    "face {f} has {} vertices; only quads are supported (face numbers are 0-based)",
+                    "face {f} has {} vertices; only quads and triangles are supported (face numbers are 0-based)",
                     face.len()
                 ));
             }
@@ -153,10 +157,11 @@ fn to_mesh_data(a: &openmesh_sys::MeshArrays) -> Result<MeshData, String> {
     Ok(data)
 }
 
-/// quadopt's mesh as OpenMesh's arrays.
+/// quadopt's mesh as OpenMesh's arrays: a quad as four vertices, a triangle as three.
 #[cfg(feature = "openmesh")]
 fn to_arrays(data: &MeshData) -> openmesh_sys::MeshArrays {
-    let mut a = openmesh_sys::MeshArrays::new(data.points.clone(), &data.quads);
+    let mut a =
+        openmesh_sys::MeshArrays::new(data.points.clone(), data.quads.iter().map(quadopt::face::vertices));
     a.fixed = data.fixed.clone();
     a
 }
@@ -175,10 +180,49 @@ mod tests {
         let arrays = to_arrays(&data);
         assert_eq!(arrays.face(0), &[0, 1, 2, 3]);
         assert_eq!(to_mesh_data(&arrays).unwrap(), data);
-        let tri = openmesh_sys::MeshArrays::new(data.points.clone(), [vec![0, 1, 2, 3], vec![1, 4, 2]]);
+        let pentagon =
+            openmesh_sys::MeshArrays::new(data.points.clone(), [vec![1, 4, 2], vec![0, 1, 4, 2, 3]]);
         assert_eq!(
-            to_mesh_data(&tri).unwrap_err(),
-            "face 1 has 3 vertices; only quads are supported (face numbers are 0-based)"
+            to_mesh_data(&pentagon).unwrap_err(),
+            "face 1 has 5 vertices; only quads and triangles are supported (face numbers are 0-based)"
         );
+    }
+
+    /// Two quads and a triangle (cpp_tests/data/mixed.obj): the triangle becomes a face with
+    /// NO_VERTEX fourth, goes back to OpenMesh as a 3-vertex face, and survives PLY and OM.
+    #[test]
+    fn triangles_convert_both_ways_and_survive_ply_and_om() {
+        use quadopt::face::{NO_VERTEX, triangle};
+        let points = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+        ];
+        let arrays = openmesh_sys::MeshArrays::new(
+            points.clone(),
+            [vec![0, 1, 4, 3], vec![1, 2, 5, 4], vec![3, 4, 6]],
+        );
+        let data = to_mesh_data(&arrays).unwrap();
+        assert_eq!(data.quads, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 6, NO_VERTEX]]);
+        assert_eq!(data.quads[2], triangle(3, 4, 6));
+        let back = to_arrays(&data);
+        assert_eq!(back, arrays);
+        assert_eq!(back.face_offsets, vec![0, 4, 8, 11]);
+        for (format, binary) in [
+            (openmesh_sys::Format::Ply, false),
+            (openmesh_sys::Format::Ply, true),
+            (openmesh_sys::Format::Om, false),
+        ] {
+            let options = openmesh_sys::WriteOptions { binary, round_to_f32: false };
+            let bytes = openmesh_sys::write_bytes(&back, format, &options).unwrap();
+            let (read, _) = openmesh_sys::read_bytes(&bytes, format).unwrap();
+            assert_eq!(to_mesh_data(&read).unwrap().quads, data.quads, "{format} (binary: {binary})");
+        }
+        // A triangle written with a NO_VERTEX fourth is never passed to OpenMesh as an index.
+        assert!(back.face_indices.iter().all(|&v| (v as usize) < points.len()));
     }
 }

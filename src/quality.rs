@@ -208,7 +208,8 @@ fn scaled_jacobian_in_range(q: &[DVec2; 4]) -> f64 {
 /// Verdict's triangle scaled Jacobian (signed against +z): twice the area over the largest
 /// product of two edge lengths, scaled by 2/sqrt(3) so an equilateral triangle scores 1.
 ///
-/// Verdict returns 0 below an absolute cut-off (a largest product under 1e-30); here the
+/// Verdict returns 0 for a tiny triangle (VTK 9.7.2: a bounding-box diagonal below about
+/// 2.2e-15, an absolute cut-off) and for coordinates beyond about 1e154; here the
 /// edges are first scaled by a power of two so that the longest is in [1, 2), which leaves
 /// the largest product at least 1/2 unless the triangle is collapsed to a point: the result
 /// does not depend on the scale.

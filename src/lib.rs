@@ -48,9 +48,11 @@ pub(crate) mod normalization;
 mod pool;
 pub(crate) mod power_of_two;
 pub mod quality;
+pub mod quality3d;
 pub(crate) mod quiet_threads;
 mod renumbering;
 pub(crate) mod smooth;
+pub mod surface;
 pub mod synthetic;
 #[cfg(test)]
 mod test_meshes;

@@ -201,27 +201,38 @@ VERDICT_DBL_MIN = 1.0e-30  # tri_scaled_jacobian's absolute cut-off on the large
 # Verdict through VTK
 
 
-def verdict_values(quads):
-    """Scaled Jacobian of every quad through vtkMeshQuality (one unstructured grid, one run)."""
+def verdict_faces(faces, cell_type, quad_measure):
+    """Scaled Jacobian of every face (all quads or all triangles; points as (x, y, z)) through
+    vtkMeshQuality: one unstructured grid, one run. The coordinates must reach Verdict as the
+    same doubles."""
     pts = vtk.vtkPoints()
     pts.SetDataTypeToDouble()
     grid = vtk.vtkUnstructuredGrid()
-    for q in quads:
+    for f in faces:
         ids = vtk.vtkIdList()
-        for x, y in q:
-            ids.InsertNextId(pts.InsertNextPoint(x, y, 0.0))
-        grid.InsertNextCell(vtk.VTK_QUAD, ids)
+        for p in f:
+            ids.InsertNextId(pts.InsertNextPoint(*p))
+        grid.InsertNextCell(cell_type, ids)
     grid.SetPoints(pts)
-    # The coordinates must reach Verdict as the same doubles.
-    for i, q in enumerate(quads):
-        for j, (x, y) in enumerate(q):
-            assert pts.GetPoint(4 * i + j) == (x, y, 0.0)
-    f = vtk.vtkMeshQuality()
-    f.SetInputData(grid)
-    f.SetQuadQualityMeasureToScaledJacobian()
-    f.Update()
-    arr = f.GetOutput().GetCellData().GetArray("Quality")
-    return [arr.GetValue(i) for i in range(len(quads))]
+    k = 0
+    for f in faces:
+        for p in f:
+            assert pts.GetPoint(k) == tuple(p)
+            k += 1
+    m = vtk.vtkMeshQuality()
+    m.SetInputData(grid)
+    if quad_measure:
+        m.SetQuadQualityMeasureToScaledJacobian()
+    else:
+        m.SetTriangleQualityMeasureToScaledJacobian()
+    m.Update()
+    arr = m.GetOutput().GetCellData().GetArray("Quality")
+    return [arr.GetValue(i) for i in range(len(faces))]
+
+
+def verdict_values(quads):
+    """Scaled Jacobian of every planar quad through vtkMeshQuality."""
+    return verdict_faces([[(x, y, 0.0) for x, y in q] for q in quads], vtk.VTK_QUAD, True)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -448,25 +459,8 @@ def final_kind(kind, q):
 
 
 def verdict_triangle_values(tris):
-    """Scaled Jacobian of every triangle through vtkMeshQuality (one unstructured grid, one run)."""
-    pts = vtk.vtkPoints()
-    pts.SetDataTypeToDouble()
-    grid = vtk.vtkUnstructuredGrid()
-    for t in tris:
-        ids = vtk.vtkIdList()
-        for x, y in t:
-            ids.InsertNextId(pts.InsertNextPoint(x, y, 0.0))
-        grid.InsertNextCell(vtk.VTK_TRIANGLE, ids)
-    grid.SetPoints(pts)
-    for i, t in enumerate(tris):
-        for j, (x, y) in enumerate(t):
-            assert pts.GetPoint(3 * i + j) == (x, y, 0.0)
-    f = vtk.vtkMeshQuality()
-    f.SetInputData(grid)
-    f.SetTriangleQualityMeasureToScaledJacobian()
-    f.Update()
-    arr = f.GetOutput().GetCellData().GetArray("Quality")
-    return [arr.GetValue(i) for i in range(len(tris))]
+    """Scaled Jacobian of every planar triangle through vtkMeshQuality."""
+    return verdict_faces([[(x, y, 0.0) for x, y in t] for t in tris], vtk.VTK_TRIANGLE, False)
 
 
 def tri_exact_area2(t):
@@ -679,33 +673,6 @@ def quad_csv(rng):
 SEED_3D = 20261206
 OUT_3D = os.path.join(HERE, "..", "tests", "data", "verdict_quads_3d.csv")
 OUT_TRIANGLES_3D = os.path.join(HERE, "..", "tests", "data", "verdict_triangles_3d.csv")
-
-
-def verdict_values_3d(faces, cell_type, quad_measure):
-    """Scaled Jacobian of every 3D face (all quads or all triangles) through vtkMeshQuality."""
-    pts = vtk.vtkPoints()
-    pts.SetDataTypeToDouble()
-    grid = vtk.vtkUnstructuredGrid()
-    for f in faces:
-        ids = vtk.vtkIdList()
-        for p in f:
-            ids.InsertNextId(pts.InsertNextPoint(*p))
-        grid.InsertNextCell(cell_type, ids)
-    grid.SetPoints(pts)
-    k = 0
-    for f in faces:
-        for p in f:
-            assert pts.GetPoint(k) == tuple(p)
-            k += 1
-    m = vtk.vtkMeshQuality()
-    m.SetInputData(grid)
-    if quad_measure:
-        m.SetQuadQualityMeasureToScaledJacobian()
-    else:
-        m.SetTriangleQualityMeasureToScaledJacobian()
-    m.Update()
-    arr = m.GetOutput().GetCellData().GetArray("Quality")
-    return [arr.GetValue(i) for i in range(len(faces))]
 
 
 def sub3(a, b):
@@ -1011,8 +978,8 @@ def csv_3d(rng, triangles):
         rows.append((kind, rule, f))
     faces = [f for _, _, f in rows]
     cell = vtk.VTK_TRIANGLE if triangles else vtk.VTK_QUAD
-    values = verdict_values_3d(faces, cell, not triangles)
-    big = verdict_values_3d([[tuple(c * BIG for c in p) for p in f] for f in faces], cell, not triangles)
+    values = verdict_faces(faces, cell, not triangles)
+    big = verdict_faces([[tuple(c * BIG for c in p) for p in f] for f in faces], cell, not triangles)
     model = (lambda f: tri_model_3d(f)) if triangles else model_3d
     for i, ((kind, rule, f), v, b) in enumerate(zip(rows, values, big)):
         m = model(f)

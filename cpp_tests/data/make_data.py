@@ -108,8 +108,9 @@ def plate(rng):
     return points, quads
 
 
-def grid(rng):
-    n = 8
+def jittered_points(rng, n):
+    """An n x n grid of unit cells, interior vertices jittered, boundary ones slid along their
+    side, rounded to f32."""
     points = []
     for j in range(n + 1):
         for i in range(n + 1):
@@ -124,9 +125,19 @@ def grid(rng):
             elif interior_y:  # left / right side: slide along y
                 y += rng.uniform(-0.2, 0.2)
             points.append((f32(x), f32(y)))
-    # Drag vertex (3, 4) past its right-hand neighbour: its quads fold over.
-    v = 4 * (n + 1) + 3
+    return points
+
+
+def drag_right(points, n, i, j):
+    """Drags vertex (i, j) past its right-hand neighbour, so its faces fold over."""
+    v = j * (n + 1) + i
     points[v] = (f32(points[v + 1][0] + 0.35), f32(points[v][1] + 0.1))
+
+
+def grid(rng):
+    n = 8
+    points = jittered_points(rng, n)
+    drag_right(points, n, 3, 4)
     quads = []
     for j in range(n):
         for i in range(n):
@@ -140,20 +151,7 @@ def grid(rng):
 def mixed_grid(rng):
     """The jittered grid's construction with every fifth cell split into two triangles."""
     n = 8
-    points = []
-    for j in range(n + 1):
-        for i in range(n + 1):
-            x, y = float(i), float(j)
-            interior_x = 0 < i < n
-            interior_y = 0 < j < n
-            if interior_x and interior_y:
-                x += rng.uniform(-0.25, 0.25)
-                y += rng.uniform(-0.25, 0.25)
-            elif interior_x:
-                x += rng.uniform(-0.2, 0.2)
-            elif interior_y:
-                y += rng.uniform(-0.2, 0.2)
-            points.append((f32(x), f32(y)))
+    points = jittered_points(rng, n)
     faces = []
     for j in range(n):
         for i in range(n):
@@ -163,10 +161,8 @@ def mixed_grid(rng):
                 faces.append((a, a + n + 2, a + n + 1))
             else:
                 faces.append((a, a + 1, a + n + 2, a + n + 1))
-    # Drag vertex (3, 2) past its right-hand neighbour: its faces fold over, the triangle of the
-    # split cell (3, 1) among them.
-    v = 2 * (n + 1) + 3
-    points[v] = (f32(points[v + 1][0] + 0.35), f32(points[v][1] + 0.1))
+    # Vertex (3, 2): its faces fold over, the triangle of the split cell (3, 1) among them.
+    drag_right(points, n, 3, 2)
     inverted = [f for f in faces if min_sj(points, f) <= 0]
     assert any(len(f) == 3 for f in inverted) and any(len(f) == 4 for f in inverted), inverted
     return points, faces

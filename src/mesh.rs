@@ -242,7 +242,7 @@ impl Mesh {
 }
 
 /// Checks every face's indices; `triangles` lets a face end in [`crate::face::NO_VERTEX`].
-fn validate_indices(quads: &[Face], n: usize, triangles: bool) -> Result<()> {
+pub(crate) fn validate_indices(quads: &[Face], n: usize, triangles: bool) -> Result<()> {
     if quads.is_empty() {
         return Err(Error::NoQuads);
     }
@@ -316,7 +316,55 @@ struct Oriented {
 
 /// Makes orientation consistent per component and counter-clockwise internally.
 fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
-    let (edges, boundary_edges) = sorted_edges(&quads)?;
+    let nq = quads.len();
+    let mut clockwise = try_filled(nq, false, "quad orientations")?;
+    let mut any_clockwise = false;
+    let (reoriented, boundary_edges) = orient_components(&mut quads, |quads, component, closed| {
+        // A closed surface cannot lie flat in a plane without folds.
+        if closed {
+            return Err(Error::ClosedMesh { quad: component[0] as usize, whole_mesh: component.len() == nq });
+        }
+        // Areas on coordinates scaled so the component's largest is in [1, 2): the sum's sign
+        // is right at any scale.
+        let largest = component
+            .iter()
+            .flat_map(|&q| quads[q as usize])
+            .filter(|&v| v != crate::face::NO_VERTEX)
+            .fold(0.0f64, |m, v| m.max(points[v as usize].abs().max_element()));
+        let scale = if largest > 0.0 { -crate::power_of_two::binary_exponent(largest) } else { 0 };
+        let mut area = 0.0;
+        for &q in component {
+            area += signed_area(points, &quads[q as usize], scale);
+        }
+        if area < 0.0 {
+            any_clockwise = true;
+            for &q in component {
+                quads[q as usize] = reversed(quads[q as usize]);
+                clockwise[q as usize] = true;
+            }
+        }
+        Ok(())
+    })?;
+    if !any_clockwise {
+        clockwise = Vec::new();
+    }
+    Ok(Oriented { quads, reoriented, clockwise, boundary_edges })
+}
+
+/// The coordinate-free part of orienting a mesh, shared by the planar [`Mesh`] and
+/// [`crate::surface::SurfaceMesh`]: finds the connected components of `faces` (through shared
+/// edges), refuses an edge of more than two faces ([`Error::NonManifoldEdge`]) and a
+/// non-orientable component ([`Error::NonOrientable`]), and reverses the faces that disagree
+/// with their component's majority. After each component is made consistent, `component` is
+/// called with the faces, the component's face indices (breadth-first order from its seed,
+/// the lowest index) and whether it is closed (no boundary edge); it may reverse the whole
+/// component or refuse it. Returns the reversed faces (sorted) and the number of boundary
+/// edges.
+pub(crate) fn orient_components(
+    quads: &mut [Face],
+    mut component_done: impl FnMut(&mut [Face], &[u32], bool) -> Result<()>,
+) -> Result<(Vec<u32>, usize)> {
+    let (edges, boundary_edges) = sorted_edges(quads)?;
     // Dual graph in CSR form: neighbour quad and whether the shared edge runs the same way in
     // both (which means one of them must be reversed). Each quad has at most four neighbours,
     // so degrees fit in u8 and the offsets (up to 4 * quads) in usize.
@@ -350,8 +398,6 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
     const UNSEEN: u8 = 2;
     let mut flip = try_filled(nq, UNSEEN, "quad orientations")?;
     let mut reoriented = Vec::new();
-    let mut clockwise = try_filled(nq, false, "quad orientations")?;
-    let mut any_clockwise = false;
     // No component has more than nq quads, so pushing never reallocates.
     let mut component = try_with_capacity(nq, "mesh components")?;
     for seed in 0..nq {
@@ -378,45 +424,23 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
             }
         }
         // A component with no boundary edge (every face has a neighbour per edge) is closed.
-        if component
+        let closed = component
             .iter()
-            .all(|&q| offsets[q as usize + 1] - offsets[q as usize] == corner_count(&quads[q as usize]))
-        {
-            return Err(Error::ClosedMesh { quad: seed, whole_mesh: component.len() == nq });
-        }
+            .all(|&q| offsets[q as usize + 1] - offsets[q as usize] == corner_count(&quads[q as usize]));
         // Reverse the minority, so "reoriented" lists as few quads as possible.
         let flipped = component.iter().filter(|&&q| flip[q as usize] == 1).count();
         let minority = u8::from(flipped * 2 <= component.len());
-        // Areas on coordinates scaled so the component's largest is in [1, 2): the sum's sign
-        // is right at any scale.
-        let largest = component
-            .iter()
-            .flat_map(|&q| quads[q as usize])
-            .filter(|&v| v != crate::face::NO_VERTEX)
-            .fold(0.0f64, |m, v| m.max(points[v as usize].abs().max_element()));
-        let scale = if largest > 0.0 { -crate::power_of_two::binary_exponent(largest) } else { 0 };
-        let mut area = 0.0;
         for &q in &component {
             let q = q as usize;
             if flip[q] == minority {
                 quads[q] = reversed(quads[q]);
                 try_push(&mut reoriented, q as u32, "reoriented quads")?;
             }
-            area += signed_area(points, &quads[q], scale);
         }
-        if area < 0.0 {
-            any_clockwise = true;
-            for &q in &component {
-                quads[q as usize] = reversed(quads[q as usize]);
-                clockwise[q as usize] = true;
-            }
-        }
+        component_done(quads, &component, closed)?;
     }
     reoriented.sort_unstable();
-    if !any_clockwise {
-        clockwise = Vec::new();
-    }
-    Ok(Oriented { quads, reoriented, clockwise, boundary_edges })
+    Ok((reoriented, boundary_edges))
 }
 
 #[cfg(test)]

@@ -10,8 +10,15 @@
 //! choices (the quad's diagonal, the tree) and gives the measured numbers.
 
 mod bvh;
+mod features;
+mod mesh;
 mod reference;
 
+pub use features::{
+    DEFAULT_FEATURE_ANGLE_DEG, FEATURE_ANGLE_TOLERANCE_DEG, FeatureCurve, FeatureEdgeKind, SurfaceFeatures,
+    VertexRole, angle_between_deg,
+};
+pub use mesh::{NO_FACE, SurfaceComponent, SurfaceEdge, SurfaceMesh, face_vector_area};
 pub use reference::{
     Closest, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
 };

@@ -1123,3 +1123,57 @@ fn the_sample_report_has_a_row_per_face_kind_under_each_mixed_mesh() {
         i += 2;
     }
 }
+
+/// `quality` measures a mesh on a curved surface instead of refusing it: a half-cylinder strip
+/// of planar rectangles (radius 1, six 30-degree columns, two rows) scores 1 by Verdict's 3D
+/// measure on every face, and cos 15 degrees signed against the area-weighted vertex normals
+/// (radial at every vertex but the strip's two straight ends, where a face's own normal is
+/// the vertex's: each quad has a corner at 15 degrees). `optimize` still refuses it.
+#[test]
+fn quality_measures_a_curved_mesh_by_both_measures() {
+    let dir = scratch("curved-quality");
+    let strip = dir.join("strip.obj");
+    let mut text = String::new();
+    for row in 0..3 {
+        for col in 0..7 {
+            let a = (col as f64 * 30.0).to_radians();
+            text += &format!("v {:?} {:?} {row}\n", a.cos(), a.sin());
+        }
+    }
+    for row in 0..2 {
+        for col in 0..6 {
+            let v = |r: usize, c: usize| r * 7 + c + 1;
+            text += &format!(
+                "f {} {} {} {}\n",
+                v(row, col),
+                v(row + 1, col),
+                v(row + 1, col + 1),
+                v(row, col + 1)
+            );
+        }
+    }
+    std::fs::write(&strip, text).unwrap();
+    let out = quadopt(&["quality", s(&strip)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(stdout.contains("21 vertices, 12 quads, on a curved surface"), "{stdout}");
+    assert!(stdout.contains("scaled Jacobian (Verdict, 3D): min 1.0000, avg 1.0000"), "{stdout}");
+    assert!(stdout.contains("signed against the surface normal: min 0.9659, avg 0.9659"), "{stdout}");
+    let v = json_stdout(&quadopt(&["quality", s(&strip), "--json"]));
+    let cos15 = 15f64.to_radians().cos();
+    assert_eq!(v["surface"], true);
+    for key in ["min", "avg", "max"] {
+        let (signed, verdict) = (v[key].as_f64().unwrap(), v["verdict"][key].as_f64().unwrap());
+        assert!((signed - cos15).abs() < 1e-12, "{key}: {signed}");
+        assert!((verdict - 1.0).abs() < 1e-12, "{key}: {verdict}");
+    }
+    assert_eq!((v["inverted"].as_u64(), v["verdict"]["inverted"].as_u64()), (Some(0), Some(0)));
+    // -o writes the signed values as scaled_jacobian.
+    let written = dir.join("strip.vtk");
+    assert!(quadopt(&["quality", s(&strip), "-o", s(&written)]).status.success());
+    let text = std::fs::read_to_string(&written).unwrap();
+    assert!(text.contains("SCALARS scaled_jacobian"), "{text}");
+    let out = dir.join("out.obj");
+    fails(&["optimize", s(&strip), "-o", s(&out)], 1, "strip.obj: the mesh is not planar", Some(&out));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

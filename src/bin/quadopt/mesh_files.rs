@@ -5,7 +5,9 @@
 use crate::fail::Fail;
 use crate::openmesh_io;
 use crate::stdout::{is_stdout, stdout_write_error};
+use glam::DVec3;
 use quadopt::io::{self, Format, MeshData, PlanarMesh};
+use quadopt::surface::SurfaceMesh;
 use std::path::Path;
 
 /// A mesh read from a file and mapped to 2D.
@@ -20,6 +22,30 @@ pub fn load(path: &Path, fix: &[String]) -> Result<Loaded, Fail> {
     fix_physical(&mut data, fix).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     let planar = PlanarMesh::new(&data).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
     Ok(Loaded { data, planar })
+}
+
+/// A mesh file as `quality` reads it: planar (what every command optimizes) or on a curved
+/// surface (measured only, for now).
+pub enum Measured {
+    Planar(Loaded),
+    Curved { data: MeshData, surface: SurfaceMesh },
+}
+
+/// Reads a mesh for `quality`: a mesh [`load`] refuses as not planar is measured as a surface
+/// mesh in 3D instead; every other error is [`load`]'s.
+pub fn load_measured(path: &Path) -> Result<Measured, Fail> {
+    let data = openmesh_io::read_mesh(path)?;
+    let failed = |e: &dyn std::fmt::Display| Fail::Other(format!("{}: {e}", path.display()));
+    match PlanarMesh::new(&data) {
+        Ok(planar) => Ok(Measured::Planar(Loaded { data, planar })),
+        Err(io::IoError::Mesh(quadopt::Error::NotPlanar { .. })) => {
+            let points = data.points.iter().map(|&p| DVec3::from_array(p)).collect();
+            let surface =
+                SurfaceMesh::new(points, data.quads.clone(), data.fixed.clone()).map_err(|e| failed(&e))?;
+            Ok(Measured::Curved { data, surface })
+        }
+        Err(e) => Err(failed(&e)),
+    }
 }
 
 /// Pins every node of the physical points and curves named `names` (all groups of a name).

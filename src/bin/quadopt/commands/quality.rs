@@ -5,12 +5,13 @@ use crate::annotation::{annotate, corner_flags};
 use crate::cli::EncodingArgs;
 use crate::fail::Fail;
 use crate::json::{by_kind_json, stats_json};
-use crate::mesh_files::{Loaded, MeshWriter, load};
+use crate::mesh_files::{Loaded, Measured, MeshWriter, load_measured};
 use crate::picture;
 use crate::plural::{count, faces};
 use crate::stdout::report_on_stderr_if_written_to_stdout;
-use quadopt::io::Format;
+use quadopt::io::{Format, MeshData};
 use quadopt::quality::ByFaceKind;
+use quadopt::surface::SurfaceMesh;
 use quadopt::{Options, QualityStats};
 use serde_json::json;
 use std::path::Path;
@@ -22,7 +23,12 @@ pub fn quality(
     encoding: &EncodingArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
-    let Loaded { mut data, planar } = load(input, &[])?;
+    let Loaded { mut data, planar } = match load_measured(input)? {
+        Measured::Planar(loaded) => loaded,
+        Measured::Curved { data, surface } => {
+            return curved_quality(input, data, &surface, output, format, encoding, as_json);
+        }
+    };
     let values = planar.mesh.quality_values();
     if let Some(output) = output {
         let corners = corner_flags(&planar.mesh, &Options::default());
@@ -61,6 +67,81 @@ pub fn quality(
     if mixed {
         print_kinds(&kinds);
     }
+    print_histogram(&h);
+    Ok(())
+}
+
+/// `quality` of a mesh on a curved surface (not planar): Verdict's 3D scaled Jacobian (what
+/// VTK's vtkMeshQuality prints) and the signed value the optimizer ranks by (each corner
+/// against the surface's normal at it, the input's area-weighted vertex normal, so a fold
+/// counts as inverted); the histogram and `-o`'s `scaled_jacobian` array are the signed
+/// values. Such meshes are measured, not yet optimized.
+fn curved_quality(
+    input: &Path,
+    mut data: MeshData,
+    surface: &SurfaceMesh,
+    output: Option<&Path>,
+    format: Option<Format>,
+    encoding: &EncodingArgs,
+    as_json: bool,
+) -> Result<(), Fail> {
+    let values = surface.signed_quality_values();
+    let verdict = QualityStats::from_values(&surface.verdict_quality_values());
+    if let Some(output) = output {
+        data.quality = Some(values.clone());
+        encoding.apply(&mut data);
+        MeshWriter::for_output(output, format, Format::from_path(input).ok())?.write(output, &data)?;
+        report_on_stderr_if_written_to_stdout(output);
+    }
+    let s = QualityStats::from_values(&values);
+    let h = picture::histogram(&values);
+    let kinds = ByFaceKind::new(surface.faces(), &values);
+    let mixed = kinds.triangle_count > 0;
+    if as_json {
+        let mut v = stats_json(&s);
+        v["file"] = json!(input.display().to_string());
+        v["vertices"] = json!(data.points.len());
+        v["quads"] = json!(kinds.quad_count);
+        if mixed {
+            v["triangles"] = json!(kinds.triangle_count);
+            v["faces"] = json!(values.len());
+            v["by_kind"] = by_kind_json(&kinds);
+        }
+        v["surface"] = json!(true);
+        v["verdict"] = stats_json(&verdict);
+        v["histogram"] = json!(h);
+        outln!("{v}");
+        return Ok(());
+    }
+    outln!(
+        "{}: {}, {}, on a curved surface (measured; not optimized yet)",
+        input.display(),
+        count(data.points.len(), "vertex", "vertices"),
+        faces(kinds.quad_count, kinds.triangle_count)
+    );
+    outln!(
+        "scaled Jacobian (Verdict, 3D): min {:.4}, avg {:.4}, max {:.4}; {} inverted",
+        verdict.min,
+        verdict.avg,
+        verdict.max,
+        verdict.inverted
+    );
+    outln!(
+        "signed against the surface normal: min {:.4}, avg {:.4}, max {:.4}; {} inverted",
+        s.min,
+        s.avg,
+        s.max,
+        s.inverted
+    );
+    if mixed {
+        print_kinds(&kinds);
+    }
+    print_histogram(&h);
+    Ok(())
+}
+
+/// The histogram's bars, a line per bin.
+fn print_histogram(h: &[usize]) {
     let most = h.iter().copied().max().unwrap_or(1).max(1);
     for (i, &count) in h.iter().enumerate() {
         let label = if i == 0 {
@@ -71,7 +152,6 @@ pub fn quality(
         let bar = "#".repeat((count * 40).div_ceil(most));
         outln!("  {label:>10} {count:>7} {bar}");
     }
-    Ok(())
 }
 
 /// One line per face kind: its count, min, avg, max and inverted count ("-" for a kind the mesh

@@ -142,10 +142,7 @@ impl Mesh {
     /// Quads in the handedness the caller used: consistently oriented, but a component given
     /// clockwise stays clockwise. This is what file writers should emit.
     pub fn quads_as_given(&self) -> Vec<[u32; 4]> {
-        if self.clockwise.is_empty() {
-            return self.quads.clone();
-        }
-        self.quads.iter().zip(&self.clockwise).map(|(&q, &cw)| if cw { reversed(q) } else { q }).collect()
+        faces_as_given(&self.quads, &self.clockwise)
     }
 
     /// Per-vertex fixed flags.
@@ -239,6 +236,14 @@ impl Mesh {
     pub fn quality(&self) -> crate::quality::QualityStats {
         crate::quality::QualityStats::from_values(&self.quality_values())
     }
+}
+
+/// `faces` with each face whose `turned` flag is set reversed back (no flags: none was turned).
+pub(crate) fn faces_as_given(faces: &[Face], turned: &[bool]) -> Vec<Face> {
+    if turned.is_empty() {
+        return faces.to_vec();
+    }
+    faces.iter().zip(turned).map(|(&f, &t)| if t { reversed(f) } else { f }).collect()
 }
 
 /// Checks every face's indices; `triangles` lets a face end in [`crate::face::NO_VERTEX`].

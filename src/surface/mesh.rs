@@ -183,10 +183,7 @@ impl SurfaceMesh {
     /// Faces in the orientation the caller used for each closed component (consistent, but a
     /// closed component given inward stays inward). What file writers should emit.
     pub fn faces_as_given(&self) -> Vec<Face> {
-        if self.turned_outward.is_empty() {
-            return self.faces.clone();
-        }
-        self.faces.iter().zip(&self.turned_outward).map(|(&f, &t)| if t { reversed(f) } else { f }).collect()
+        crate::mesh::faces_as_given(&self.faces, &self.turned_outward)
     }
 
     /// Per-vertex fixed flags.

@@ -7,11 +7,10 @@ use crate::fail::Fail;
 use crate::json::{by_kind_json, stats_json};
 use crate::mesh_files::{Loaded, Measured, MeshWriter, load_measured};
 use crate::picture;
-use crate::plural::{count, faces};
+use crate::plural::{count, faces as faces_phrase};
 use crate::stdout::report_on_stderr_if_written_to_stdout;
-use quadopt::io::{Format, MeshData};
+use quadopt::io::Format;
 use quadopt::quality::ByFaceKind;
-use quadopt::surface::SurfaceMesh;
 use quadopt::{Options, QualityStats};
 use serde_json::json;
 use std::path::Path;
@@ -23,16 +22,28 @@ pub fn quality(
     encoding: &EncodingArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
-    let Loaded { mut data, planar } = match load_measured(input)? {
-        Measured::Planar(loaded) => loaded,
-        Measured::Curved { data, surface } => {
-            return curved_quality(input, data, &surface, output, format, encoding, as_json);
+    let (mut data, faces, values, verdict) = match load_measured(input)? {
+        Measured::Planar(Loaded { mut data, planar }) => {
+            let values = planar.mesh.quality_values();
+            if output.is_some() {
+                let corners = corner_flags(&planar.mesh, &Options::default());
+                annotate(&mut data, &planar, corners);
+            }
+            (data, planar.mesh.faces().to_vec(), values, None)
+        }
+        // A mesh on a curved surface: Verdict's 3D scaled Jacobian (what VTK's vtkMeshQuality
+        // prints) next to the value the optimizer ranks by, each corner signed against the
+        // surface's normal there (the input's area-weighted vertex normal), so a fold counts
+        // as inverted. The signed values are the main statistics, the histogram and -o's
+        // array. Such meshes are measured, not yet optimized.
+        Measured::Curved { mut data, surface } => {
+            let values = surface.signed_quality_values();
+            let verdict = QualityStats::from_values(&surface.verdict_quality_values());
+            data.quality = Some(values.clone());
+            (data, surface.faces().to_vec(), values, Some(verdict))
         }
     };
-    let values = planar.mesh.quality_values();
     if let Some(output) = output {
-        let corners = corner_flags(&planar.mesh, &Options::default());
-        annotate(&mut data, &planar, corners);
         encoding.apply(&mut data);
         MeshWriter::for_output(output, format, Format::from_path(input).ok())?.write(output, &data)?;
         // The mesh went to stdout: the report goes to stderr.
@@ -41,7 +52,7 @@ pub fn quality(
     let s = QualityStats::from_values(&values);
     let h = picture::histogram(&values);
     // Per face kind only for a mesh with triangles: a quad mesh's report is as it was.
-    let kinds = ByFaceKind::new(planar.mesh.faces(), &values);
+    let kinds = ByFaceKind::new(&faces, &values);
     let mixed = kinds.triangle_count > 0;
     if as_json {
         let mut v = stats_json(&s);
@@ -53,86 +64,31 @@ pub fn quality(
             v["faces"] = json!(values.len());
             v["by_kind"] = by_kind_json(&kinds);
         }
-        v["histogram"] = json!(h);
-        outln!("{v}");
-        return Ok(());
-    }
-    outln!(
-        "{}: {}, {}",
-        input.display(),
-        count(data.points.len(), "vertex", "vertices"),
-        faces(kinds.quad_count, kinds.triangle_count)
-    );
-    outln!("scaled Jacobian: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
-    if mixed {
-        print_kinds(&kinds);
-    }
-    print_histogram(&h);
-    Ok(())
-}
-
-/// `quality` of a mesh on a curved surface (not planar): Verdict's 3D scaled Jacobian (what
-/// VTK's vtkMeshQuality prints) and the signed value the optimizer ranks by (each corner
-/// against the surface's normal at it, the input's area-weighted vertex normal, so a fold
-/// counts as inverted); the histogram and `-o`'s `scaled_jacobian` array are the signed
-/// values. Such meshes are measured, not yet optimized.
-fn curved_quality(
-    input: &Path,
-    mut data: MeshData,
-    surface: &SurfaceMesh,
-    output: Option<&Path>,
-    format: Option<Format>,
-    encoding: &EncodingArgs,
-    as_json: bool,
-) -> Result<(), Fail> {
-    let values = surface.signed_quality_values();
-    let verdict = QualityStats::from_values(&surface.verdict_quality_values());
-    if let Some(output) = output {
-        data.quality = Some(values.clone());
-        encoding.apply(&mut data);
-        MeshWriter::for_output(output, format, Format::from_path(input).ok())?.write(output, &data)?;
-        report_on_stderr_if_written_to_stdout(output);
-    }
-    let s = QualityStats::from_values(&values);
-    let h = picture::histogram(&values);
-    let kinds = ByFaceKind::new(surface.faces(), &values);
-    let mixed = kinds.triangle_count > 0;
-    if as_json {
-        let mut v = stats_json(&s);
-        v["file"] = json!(input.display().to_string());
-        v["vertices"] = json!(data.points.len());
-        v["quads"] = json!(kinds.quad_count);
-        if mixed {
-            v["triangles"] = json!(kinds.triangle_count);
-            v["faces"] = json!(values.len());
-            v["by_kind"] = by_kind_json(&kinds);
+        if let Some(verdict) = &verdict {
+            v["surface"] = json!(true);
+            v["verdict"] = stats_json(verdict);
         }
-        v["surface"] = json!(true);
-        v["verdict"] = stats_json(&verdict);
         v["histogram"] = json!(h);
         outln!("{v}");
         return Ok(());
     }
+    let curved = if verdict.is_some() { ", on a curved surface (measured; not optimized yet)" } else { "" };
     outln!(
-        "{}: {}, {}, on a curved surface (measured; not optimized yet)",
+        "{}: {}, {}{curved}",
         input.display(),
         count(data.points.len(), "vertex", "vertices"),
-        faces(kinds.quad_count, kinds.triangle_count)
+        faces_phrase(kinds.quad_count, kinds.triangle_count)
     );
-    outln!(
-        "scaled Jacobian (Verdict, 3D): min {:.4}, avg {:.4}, max {:.4}; {} inverted",
-        verdict.min,
-        verdict.avg,
-        verdict.max,
-        verdict.inverted
-    );
-    outln!(
-        "signed against the surface normal: min {:.4}, avg {:.4}, max {:.4}; {} inverted",
-        s.min,
-        s.avg,
-        s.max,
-        s.inverted
-    );
+    let line = |label: &str, s: &QualityStats| {
+        outln!("{label}: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted)
+    };
+    match &verdict {
+        None => line("scaled Jacobian", &s),
+        Some(verdict) => {
+            line("scaled Jacobian (Verdict, 3D)", verdict);
+            line("signed against the surface normal", &s);
+        }
+    }
     if mixed {
         print_kinds(&kinds);
     }

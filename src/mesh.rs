@@ -206,14 +206,7 @@ impl Mesh {
 
     /// Replaces the vertex positions (same count, all finite).
     pub fn set_points(&mut self, points: &[DVec2]) -> Result<()> {
-        if points.len() != self.points.len() {
-            return Err(Error::VertexCountMismatch { expected: self.points.len(), got: points.len() });
-        }
-        if let Some(v) = points.iter().position(|p| !p.is_finite()) {
-            return Err(Error::NonFiniteCoordinate { vertex: v });
-        }
-        self.points.copy_from_slice(points);
-        Ok(())
+        replace_points(&mut self.points, points, |p| p.is_finite())
     }
 
     /// Per-quad scaled Jacobians (see [`crate::quality`]).
@@ -235,6 +228,30 @@ impl Mesh {
     /// Quality statistics of the mesh.
     pub fn quality(&self) -> crate::quality::QualityStats {
         crate::quality::QualityStats::from_values(&self.quality_values())
+    }
+}
+
+/// Copies `new` over `current`: the same count, every point finite (`is_finite`).
+pub(crate) fn replace_points<P: Copy>(
+    current: &mut [P],
+    new: &[P],
+    is_finite: impl Fn(&P) -> bool,
+) -> Result<()> {
+    if new.len() != current.len() {
+        return Err(Error::VertexCountMismatch { expected: current.len(), got: new.len() });
+    }
+    if let Some(v) = new.iter().position(|p| !is_finite(p)) {
+        return Err(Error::NonFiniteCoordinate { vertex: v });
+    }
+    current.copy_from_slice(new);
+    Ok(())
+}
+
+/// Reverses every face of `component` and flags it in `turned`.
+pub(crate) fn reverse_component(faces: &mut [Face], component: &[u32], turned: &mut [bool]) {
+    for &f in component {
+        faces[f as usize] = reversed(faces[f as usize]);
+        turned[f as usize] = true;
     }
 }
 
@@ -343,10 +360,7 @@ fn orient(points: &[DVec2], mut quads: Vec<[u32; 4]>) -> Result<Oriented> {
         }
         if area < 0.0 {
             any_clockwise = true;
-            for &q in component {
-                quads[q as usize] = reversed(quads[q as usize]);
-                clockwise[q as usize] = true;
-            }
+            reverse_component(quads, component, &mut clockwise);
         }
         Ok(())
     })?;

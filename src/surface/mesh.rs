@@ -14,7 +14,7 @@
 
 use crate::alloc::{try_filled, try_with_capacity};
 use crate::error::{Error, Result};
-use crate::face::{Face, NO_VERTEX, corner_count, reversed};
+use crate::face::{Face, NO_VERTEX, corner_count};
 use glam::DVec3;
 
 /// "No face": the second face of a boundary edge.
@@ -131,10 +131,7 @@ impl SurfaceMesh {
             component_count += 1;
             if closed && enclosed_volume(&points, faces, component) < 0.0 {
                 any_turned = true;
-                for &f in component {
-                    faces[f as usize] = reversed(faces[f as usize]);
-                    turned_outward[f as usize] = true;
-                }
+                crate::mesh::reverse_component(faces, component, &mut turned_outward);
             }
             Ok(())
         })?;
@@ -165,14 +162,7 @@ impl SurfaceMesh {
     /// Replaces the vertex positions (same count, all finite). Edges, components and the
     /// input's vertex normals ([`SurfaceMesh::vertex_normals`]) stay those of the input.
     pub fn set_points(&mut self, points: &[DVec3]) -> Result<()> {
-        if points.len() != self.points.len() {
-            return Err(Error::VertexCountMismatch { expected: self.points.len(), got: points.len() });
-        }
-        if let Some(v) = points.iter().position(|p| !p.is_finite()) {
-            return Err(Error::NonFiniteCoordinate { vertex: v });
-        }
-        self.points.copy_from_slice(points);
-        Ok(())
+        crate::mesh::replace_points(&mut self.points, points, |p| p.is_finite())
     }
 
     /// Faces, consistently oriented (closed components outward).

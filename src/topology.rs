@@ -61,8 +61,13 @@ impl Topology {
     /// quads at a vertex; [`Error::OutOfMemory`] if an array cannot be allocated (or would be
     /// too long for its 32-bit offsets).
     pub fn try_new(mesh: &Mesh) -> Result<Topology> {
-        let n = mesh.points().len();
-        let quads = mesh.quads();
+        Topology::try_from_faces(mesh.points().len(), mesh.quads())
+    }
+
+    /// [`Topology::try_new`] from the connectivity alone: `n` vertices and consistently
+    /// oriented `quads` (triangles with [`NO_VERTEX`] fourth), whatever the coordinates
+    /// (a surface in 3D uses it too; "counter-clockwise" is then the faces' winding).
+    pub fn try_from_faces(n: usize, quads: &[[u32; 4]]) -> Result<Topology> {
         // Longest array: the rings, one entry per wedge plus one per boundary vertex.
         let ring_len = (quads.len() as u64 * 4).saturating_add(n as u64);
         if ring_len > u32::MAX as u64 {

@@ -106,9 +106,19 @@ fn star_corners(
     frame: Frame,
     out: &mut Vec<Linear>,
 ) {
+    star_face_corners(points, topo.vertex_quads(v).iter().map(|&qi| &quads[qi as usize]), v, frame, out);
+}
+
+/// [`star_corners`] of the faces `star` around `v`, given as faces rather than looked up.
+fn star_face_corners<'a>(
+    points: &[DVec2],
+    star: impl Iterator<Item = &'a [u32; 4]>,
+    v: usize,
+    frame: Frame,
+    out: &mut Vec<Linear>,
+) {
     out.clear();
-    for &qi in topo.vertex_quads(v) {
-        let q = &quads[qi as usize];
+    for q in star {
         let (next, diag, prev) = face::after(q, face::position(q, v as u32).unwrap_or(0));
         let a = frame.local(points[next as usize]);
         let b = frame.local(points[prev as usize]);
@@ -360,6 +370,49 @@ pub(crate) fn untangle_vertex(
     untangle_vertex_interruptible(points, quads, topo, v, &mut || true)
 }
 
+/// [`untangle_vertex`] on a star given as its faces (`star`, each holding `v`, indices into
+/// `points`): for a vertex whose star lives in a chart of its own (a surface's tangent plane).
+pub(crate) fn untangle_star(points: &[DVec2], star: &[[u32; 4]], v: usize) -> Option<DVec2> {
+    let vertices = star.iter().flat_map(|q| face::vertices(q).iter().copied()).filter(|&u| u as usize != v);
+    let mut f = Vec::with_capacity(3 * star.len());
+    let frame = search_frame(points, vertices)?;
+    star_face_corners(points, star.iter(), v, frame.0, &mut f);
+    solve_star(points[v], &f, frame, &mut || true)
+}
+
+/// The search box of a vertex's move (the bounding box of its star's other vertices, shrunk by
+/// 10% towards its centre so an optimum on the box, when the star cannot be fully untangled
+/// from here, never lands exactly on a neighbour's coordinates and degenerates an edge), as
+/// the frame of its program and the box's half-size in that frame.
+fn search_frame(points: &[DVec2], star: impl Iterator<Item = u32>) -> Option<(Frame, DVec2)> {
+    let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+    for u in star {
+        lo = lo.min(points[u as usize]);
+        hi = hi.max(points[u as usize]);
+    }
+    let (centre, half) = (lo * 0.5 + hi * 0.5, (hi * 0.5 - lo * 0.5) * 0.9);
+    let scale = half.max_element();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    Some((Frame { origin: centre, scale }, half / scale))
+}
+
+/// The move maximizing the smallest of the star's corner functions `f` (set up in `frame`)
+/// from `p`, if it raises that smallest value.
+fn solve_star(
+    p: DVec2,
+    f: &[Linear],
+    (frame, w): (Frame, DVec2),
+    go_on: &mut dyn FnMut() -> bool,
+) -> Option<DVec2> {
+    let p = frame.local(p);
+    let current = f.iter().map(|l| l.at(p)).fold(f64::INFINITY, f64::min);
+    let (best, value) = max_min_interruptible(f, -w, w, go_on)?;
+    let moved = frame.global(best);
+    (value > current && moved.is_finite()).then_some(moved)
+}
+
 /// [`untangle_vertex`], its solver asking `go_on` regularly whether to go on (`None` once it
 /// says no).
 fn untangle_vertex_interruptible(
@@ -369,28 +422,10 @@ fn untangle_vertex_interruptible(
     v: usize,
     go_on: &mut dyn FnMut() -> bool,
 ) -> Option<DVec2> {
-    // Search box: the bounding box of the neighbours, shrunk by 10% towards its centre so an
-    // optimum on the box (when the star cannot be fully untangled from here) never lands
-    // exactly on a neighbour's coordinates and degenerates an edge.
-    let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for u in topo.star_vertices(quads, v) {
-        lo = lo.min(points[u as usize]);
-        hi = hi.max(points[u as usize]);
-    }
-    let (centre, half) = (lo * 0.5 + hi * 0.5, (hi * 0.5 - lo * 0.5) * 0.9);
-    let scale = half.max_element();
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
-    let frame = Frame { origin: centre, scale };
+    let frame = search_frame(points, topo.star_vertices(quads, v))?;
     let mut f = Vec::with_capacity(3 * topo.quad_count(v));
-    star_corners(points, quads, topo, v, frame, &mut f);
-    let p = frame.local(points[v]);
-    let current = f.iter().map(|l| l.at(p)).fold(f64::INFINITY, f64::min);
-    let w = half / scale;
-    let (best, value) = max_min_interruptible(&f, -w, w, go_on)?;
-    let moved = frame.global(best);
-    (value > current && moved.is_finite()).then_some(moved)
+    star_corners(points, quads, topo, v, frame.0, &mut f);
+    solve_star(points[v], &f, frame, go_on)
 }
 
 /// What [`untangle`] did.

@@ -5,7 +5,9 @@
 //! two faces exceeds the feature angle) or an edge the user marked. Each face's normal is its
 //! vector area ([`super::mesh::face_vector_area`]: the cross product of a quad's diagonals),
 //! the normal of the plane that best fits a non-planar quad; a face of no area has no
-//! direction and makes no edge sharp.
+//! direction and makes no edge sharp. Nor does a face folded over (a corner of it turns against
+//! the input's vertex normals, [`SurfaceMesh::signed_quality_values`]): a fold is a defect the
+//! optimizer repairs, and its edges' dihedral angles say nothing about the surface.
 //!
 //! A **feature corner** is a vertex with one feature edge (a curve's end), with three or more
 //! (a junction), or with two that turn by more than the feature angle (the angle between the
@@ -142,12 +144,17 @@ impl SurfaceFeatures {
         let points = mesh.points();
         let faces = mesh.faces();
         let normals: Vec<DVec3> = faces.iter().map(|f| face_vector_area(points, f)).collect();
+        // A face folded over (a corner turning against the vertex normals) is a defect to
+        // repair, not a feature: its edges are never sharp.
+        let folded: Vec<bool> = mesh.signed_quality_values().iter().map(|&q| q <= 0.0).collect();
         let mut edge_kind: Vec<FeatureEdgeKind> = mesh
             .edges()
             .iter()
             .map(|e| {
                 let boundary = e.is_boundary();
                 let sharp = !boundary
+                    && !folded[e.faces[0] as usize]
+                    && !folded[e.faces[1] as usize]
                     && angle_between_deg(normals[e.faces[0] as usize], normals[e.faces[1] as usize])
                         > threshold;
                 FeatureEdgeKind { boundary, sharp, marked: false }

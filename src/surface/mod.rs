@@ -6,19 +6,30 @@
 //! ([`ReferenceSurface::closest_point`]). The point-triangle and point-segment routines it is
 //! built on are public too: [`closest_point_on_triangle`], [`closest_point_on_segment`].
 //!
-//! Nothing in the optimizer uses this module yet; docs/reference_surface.md explains the
-//! choices (the quad's diagonal, the tree) and gives the measured numbers.
+//! [`SurfaceOptimizer`] runs the planar method on a surface: feature curves cut the input
+//! into smooth patches (`patches`), each vertex's star is mapped to its tangent plane
+//! (`star`), moved there by the planar kernels (`moves`) and put back on its patch or along its
+//! feature curve (`tracks`); the run's stages are in `optimizer`. docs/reference_surface.md
+//! explains the choices (the quad's diagonal, the tree) and gives the measured numbers.
 
 mod bvh;
 mod features;
 mod mesh;
+mod moves;
+mod optimizer;
+mod patches;
 mod reference;
+mod report;
+mod star;
+mod tracks;
 
 pub use features::{
     DEFAULT_FEATURE_ANGLE_DEG, FEATURE_ANGLE_TOLERANCE_DEG, FeatureCurve, FeatureEdgeKind, SurfaceFeatures,
     VertexRole, angle_between_deg,
 };
 pub use mesh::{NO_FACE, SurfaceComponent, SurfaceEdge, SurfaceMesh, face_vector_area};
+pub use optimizer::SurfaceOptimizer;
 pub use reference::{
     Closest, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
 };
+pub use report::{SurfaceFidelity, SurfaceReport};

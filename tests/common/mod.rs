@@ -5,6 +5,7 @@ pub mod grids;
 pub mod hard;
 pub mod samples;
 pub mod shared;
+pub mod surfaces;
 
 /// Deterministic pseudo-random numbers in [-1, 1) (SplitMix64): the same sequence on every
 /// platform, so generated test meshes never change.

@@ -1,0 +1,248 @@
+//! One vertex's move on the surface: the smoothing step through the guard, the untangling
+//! step and the max-min search, each computed in the vertex's tangent-plane chart (or along
+//! its feature curve) and judged on the surface.
+
+use glam::DVec2;
+
+use super::star::{Chart, LocalStar, Motion, Placed, Score, State, Surface};
+use super::tracks::Slot;
+use crate::smooth::options::Method;
+use crate::smooth::{angle_based, embedded_polygon, laplacian};
+
+/// Halvings of a step the guard tries before giving up on its direction (as in the plane).
+const MAX_HALVINGS: usize = 8;
+
+/// A star whose minimum is at least this has nothing left to gain.
+const PERFECT: f64 = 1.0 - 1e-9;
+
+/// Positions along a curve the 1-D searches sample between the vertex's two neighbours.
+const CURVE_SAMPLES: usize = 16;
+
+/// Steps of the max-min stage's pattern search in a chart before it stops.
+const SEARCH_EVALUATIONS: usize = 96;
+
+/// What the smoothing step needs besides the star.
+#[derive(Clone, Copy, Debug)]
+pub struct StepRule {
+    pub method: Method,
+    pub lambda: f64,
+    pub guard: bool,
+    /// The guard's floor: a move may lower its star's minimum to at most min(current, floor).
+    pub floor: f64,
+}
+
+/// Whether `candidate` passes the guard from `current`: no more inverted faces and a minimum
+/// of at least min(current minimum, floor); from a tangled star, not worse.
+fn guard_accepts(candidate: &Score, current: &Score, floor: f64) -> bool {
+    if current.inverted > 0 || current.min <= 0.0 {
+        return !current.better_than(candidate);
+    }
+    candidate.inverted == 0 && candidate.min >= current.min.min(floor)
+}
+
+/// The chart of free vertex `v` and its star in it.
+fn chart_of(surface: &Surface, state: &State, v: usize, star: &mut LocalStar) -> (Chart, Placed) {
+    let here = surface.current(state, v);
+    let chart = Chart::new(here.point, here.normal_for(u32::MAX));
+    star.build(surface, state, v, &chart);
+    (chart, here)
+}
+
+/// The smoothing move of `v`, if it moves: its method's target in its chart (or the middle of
+/// its interval along its curve), the lambda step, then the guard.
+pub fn smoothing_move(
+    surface: &Surface,
+    state: &State,
+    v: usize,
+    rule: &StepRule,
+    star: &mut LocalStar,
+) -> Option<Placed> {
+    match surface.motion[v] {
+        Motion::Still => None,
+        Motion::Free(patch) => {
+            let (chart, here) = chart_of(surface, state, v, star);
+            let target = match rule.method {
+                Method::EmbeddedPolygon => embedded_polygon::target(&star.points, 0, &star.ring).point,
+                Method::Laplacian => laplacian::uniform_target(&star.points, &star.ring),
+                Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
+                Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
+            };
+            let step = target * rule.lambda;
+            if !step.is_finite() || step == DVec2::ZERO {
+                return None;
+            }
+            let place = |x: DVec2| surface.place_free(patch, chart.lift(x), here.hint);
+            if !rule.guard {
+                return Some(place(step));
+            }
+            let current = surface.star_score(state, v, None);
+            let mut s = step;
+            for _ in 0..=MAX_HALVINGS {
+                let candidate = place(s);
+                if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
+                    return moved(candidate, &here);
+                }
+                s *= 0.5;
+            }
+            if current.min >= PERFECT {
+                return None;
+            }
+            // Stuck: the direction that raises the star's smallest corner in the chart, the
+            // longest step along it that makes the star strictly better on the surface.
+            untangling_move(surface, state, v, star, (&chart, &here), &current)
+        }
+        Motion::Curve(slot) => {
+            let (lo, hi) = surface.tracks.interval(slot, &state.params);
+            let s0 = state.params[v];
+            let target = 0.5 * lo + 0.5 * hi;
+            let step = (target - s0) * rule.lambda;
+            if !step.is_finite() || step == 0.0 {
+                return None;
+            }
+            if !rule.guard {
+                return Some(surface.place_on_curve(v, slot, s0 + step));
+            }
+            let here = surface.current(state, v);
+            let current = surface.star_score(state, v, None);
+            let mut d = step;
+            for _ in 0..=MAX_HALVINGS {
+                let candidate = surface.place_on_curve(v, slot, s0 + d);
+                if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
+                    return moved(candidate, &here);
+                }
+                d *= 0.5;
+            }
+            None
+        }
+    }
+}
+
+/// `candidate` unless it is where the vertex already is.
+fn moved(candidate: Placed, here: &Placed) -> Option<Placed> {
+    (candidate.point != here.point).then_some(candidate)
+}
+
+/// The untangling move of free vertex `v` from its chart: the local linear program of the
+/// plane ([`crate::smooth::untangle`]) on the charted star, then the longest of the full step
+/// and its halvings that leaves the star strictly better on the surface.
+fn untangling_move(
+    surface: &Surface,
+    state: &State,
+    v: usize,
+    star: &LocalStar,
+    (chart, here): (&Chart, &Placed),
+    current: &Score,
+) -> Option<Placed> {
+    let Motion::Free(patch) = surface.motion[v] else { return None };
+    let target = crate::smooth::untangle::untangle_star(&star.points, &star.faces, 0)?;
+    let mut s = target;
+    for _ in 0..=MAX_HALVINGS {
+        let candidate = surface.place_free(patch, chart.lift(s), here.hint);
+        if surface.star_score(state, v, Some(&candidate)).better_than(current) {
+            return moved(candidate, here);
+        }
+        s *= 0.5;
+    }
+    None
+}
+
+/// A move of `v` that makes its tangled star better, if it finds one: the untangling program
+/// in its chart for a free vertex, the best of the samples along its curve for an on-curve one.
+pub fn untangle_move(surface: &Surface, state: &State, v: usize, star: &mut LocalStar) -> Option<Placed> {
+    let current = surface.star_score(state, v, None);
+    if current.inverted == 0 && current.min > 0.0 {
+        return None;
+    }
+    match surface.motion[v] {
+        Motion::Still => None,
+        Motion::Free(_) => {
+            let (chart, here) = chart_of(surface, state, v, star);
+            untangling_move(surface, state, v, star, (&chart, &here), &current)
+        }
+        Motion::Curve(slot) => curve_search(surface, state, v, slot, &current),
+    }
+}
+
+/// The best position of on-curve `v` among samples of its interval, refined twice around the
+/// best, if it beats `current`.
+fn curve_search(surface: &Surface, state: &State, v: usize, slot: Slot, current: &Score) -> Option<Placed> {
+    let (mut lo, mut hi) = surface.tracks.interval(slot, &state.params);
+    let mut best: Option<(Score, Placed)> = None;
+    for _ in 0..3 {
+        let h = (hi - lo) / (CURVE_SAMPLES + 1) as f64;
+        if h.is_nan() || h <= 0.0 {
+            break;
+        }
+        let mut centre = None;
+        for k in 1..=CURVE_SAMPLES {
+            let candidate = surface.place_on_curve(v, slot, lo + h * k as f64);
+            let score = surface.star_score(state, v, Some(&candidate));
+            if best.as_ref().is_none_or(|(b, _)| score.better_than(b)) {
+                best = Some((score, candidate));
+                centre = Some(candidate.param);
+            }
+        }
+        // Refine around the best sample (or the best so far, if this level found nothing).
+        let c = centre.or(best.as_ref().map(|(_, p)| p.param)).unwrap_or(0.5 * lo + 0.5 * hi);
+        (lo, hi) = (c - h, c + h);
+    }
+    let (score, placed) = best?;
+    let here = surface.current(state, v);
+    if score.better_than(current) { moved(placed, &here) } else { None }
+}
+
+/// The max-min stage's move of `v`: the position that makes its star best (fewest inverted
+/// faces, highest minimum, highest sum), by a pattern search in its chart (eight directions,
+/// the step halved when none helps) or by sampling along its curve; `None` if none beats
+/// where it is.
+pub fn max_min_move(surface: &Surface, state: &State, v: usize, star: &mut LocalStar) -> Option<Placed> {
+    let current = surface.star_score(state, v, None);
+    match surface.motion[v] {
+        Motion::Still => None,
+        Motion::Curve(slot) => curve_search(surface, state, v, slot, &current),
+        Motion::Free(patch) => {
+            let (chart, here) = chart_of(surface, state, v, star);
+            // Start at a fifth of the shortest distance to a ring neighbour in the chart.
+            let nearest =
+                star.ring.iter().map(|&u| star.points[u as usize].length()).fold(f64::INFINITY, f64::min);
+            let mut h = 0.2 * nearest;
+            if !(h > 0.0 && h.is_finite()) {
+                return None;
+            }
+            let stop = h * 1e-4;
+            let (mut x, mut best, mut best_score) = (DVec2::ZERO, None, current);
+            let mut evaluations = 0;
+            const DIRECTIONS: [DVec2; 8] = [
+                DVec2::new(1.0, 0.0),
+                DVec2::new(std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2),
+                DVec2::new(0.0, 1.0),
+                DVec2::new(-std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2),
+                DVec2::new(-1.0, 0.0),
+                DVec2::new(-std::f64::consts::FRAC_1_SQRT_2, -std::f64::consts::FRAC_1_SQRT_2),
+                DVec2::new(0.0, -1.0),
+                DVec2::new(std::f64::consts::FRAC_1_SQRT_2, -std::f64::consts::FRAC_1_SQRT_2),
+            ];
+            while h > stop && evaluations < SEARCH_EVALUATIONS {
+                let mut improved = None;
+                for d in DIRECTIONS {
+                    let y = x + d * h;
+                    let candidate = surface.place_free(patch, chart.lift(y), here.hint);
+                    evaluations += 1;
+                    let score = surface.star_score(state, v, Some(&candidate));
+                    if score.better_than(&best_score) {
+                        best_score = score;
+                        improved = Some((y, candidate));
+                    }
+                }
+                match improved {
+                    Some((y, candidate)) => {
+                        x = y;
+                        best = Some(candidate);
+                    }
+                    None => h *= 0.5,
+                }
+            }
+            best.and_then(|b| moved(b, &here))
+        }
+    }
+}

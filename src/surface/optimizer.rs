@@ -1,0 +1,484 @@
+//! The optimizer on curved surfaces: the planar run's stages (untangling, guarded sweeps by
+//! colour class, the best iterate, a max-min stage), each vertex's computation in its
+//! tangent-plane chart ([`super::star`]) and every result put back on the reference surface.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use std::time::Instant;
+
+use super::features::{SurfaceFeatures, VertexRole};
+use super::mesh::SurfaceMesh;
+use super::moves::{self, StepRule};
+use super::patches::Patches;
+use super::report::{SurfaceFidelity, SurfaceReport};
+use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
+use super::tracks::Tracks;
+use crate::error::{Error, Result};
+use crate::face::Face;
+use crate::quality::{ByFaceKind, QualityStats};
+use crate::smooth::effort::Effort;
+use crate::smooth::options::{BoundaryMode, Options};
+use crate::smooth::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves_with_tie};
+use crate::smooth::report::Progress;
+use crate::topology::{Topology, VertexKind};
+
+/// Classes smaller than this are computed on the calling thread (as in the plane).
+const PARALLEL_MIN: usize = 512;
+
+/// Untangling sweeps at most.
+const UNTANGLE_SWEEPS: usize = 20;
+
+/// Sweeps in a row that leave the kept iterate unchanged before the sweeps stop, per preset.
+fn patience(effort: Effort) -> usize {
+    match effort {
+        Effort::Fast => Effort::FAST_STALE_SWEEPS,
+        Effort::Balanced => 3,
+        Effort::Best => 6,
+    }
+}
+
+/// Rounds of the max-min stage per preset (`best` stops earlier when a round gains nothing).
+fn max_min_rounds(effort: Effort) -> usize {
+    match effort {
+        Effort::Fast => 0,
+        Effort::Balanced => Effort::BALANCED_ROUNDS,
+        Effort::Best => 30,
+    }
+}
+
+/// An optimizer for one surface mesh: its features, patches and reference surface, built
+/// once from the input positions.
+///
+/// ```
+/// use glam::DVec3;
+/// use quadopt::surface::{SurfaceMesh, SurfaceOptimizer};
+/// use quadopt::Options;
+///
+/// // A 4x4 grid of quads on a cylinder of radius 1 (a quarter turn), one vertex pushed along it.
+/// let at = |i: usize, j: usize| {
+///     let a = i as f64 * std::f64::consts::FRAC_PI_8;
+///     DVec3::new(a.cos(), a.sin(), j as f64 * 0.4)
+/// };
+/// let mut points: Vec<DVec3> = (0..25).map(|k| at(k % 5, k / 5)).collect();
+/// let a = 2.6 * std::f64::consts::FRAC_PI_8;
+/// points[12] = DVec3::new(a.cos(), a.sin(), 0.8);
+/// let faces = (0..16).map(|k| {
+///     let (i, j) = (k % 4, k / 4);
+///     let v = (j * 5 + i) as u32;
+///     [v, v + 1, v + 6, v + 5]
+/// });
+/// let mut mesh = SurfaceMesh::new(points, faces.collect(), None)?;
+/// let optimizer = SurfaceOptimizer::new(&mesh, 45.0, &[])?;
+/// let report = optimizer.run(&mut mesh, &Options::default(), None)?;
+/// assert!(report.output.min > report.input.min);
+/// // Still on the cylinder: every vertex within rounding of the input surface.
+/// assert!(report.fidelity.max_distance < 1e-12);
+/// # Ok::<(), quadopt::Error>(())
+/// ```
+pub struct SurfaceOptimizer {
+    faces: Vec<Face>,
+    topo: Topology,
+    features: SurfaceFeatures,
+    patches: Patches,
+    tracks: Tracks,
+    motion: Vec<Motion>,
+    input_points: Vec<DVec3>,
+    mean_edge: f64,
+}
+
+impl SurfaceOptimizer {
+    /// Builds the optimizer of `mesh` at its current positions: sharp edges are those whose
+    /// faces' normals differ by more than `feature_angle_deg` (also the turn at which a feature
+    /// curve has a corner), and `marked` lists more feature edges as vertex pairs (errors as
+    /// [`SurfaceFeatures::detect`]).
+    pub fn new(mesh: &SurfaceMesh, feature_angle_deg: f64, marked: &[[u32; 2]]) -> Result<SurfaceOptimizer> {
+        let features = SurfaceFeatures::detect(mesh, feature_angle_deg, marked)?;
+        let topo = Topology::try_from_faces(mesh.points().len(), mesh.faces())?;
+        let patches = Patches::new(mesh, &features)?;
+        let tracks = Tracks::new(&features, mesh.points());
+        let motion = (0..mesh.points().len())
+            .map(|v| {
+                if mesh.fixed()[v] {
+                    return Motion::Still;
+                }
+                let kind = topo.kind(v);
+                if !matches!(kind, VertexKind::Interior | VertexKind::Boundary) {
+                    return Motion::Still;
+                }
+                let mut patches_here: Vec<u32> =
+                    topo.vertex_quads(v).iter().map(|&f| patches.of_face(f as usize)).collect();
+                patches_here.sort_unstable();
+                patches_here.dedup();
+                match features.roles()[v] {
+                    VertexRole::Corner => Motion::Still,
+                    VertexRole::Free if kind == VertexKind::Interior && patches_here.len() == 1 => {
+                        Motion::Free(patches_here[0])
+                    }
+                    VertexRole::OnCurve(_) if patches_here.len() <= MAX_PATCHES => {
+                        tracks.slot(v).map_or(Motion::Still, Motion::Curve)
+                    }
+                    _ => Motion::Still,
+                }
+            })
+            .collect();
+        let mut edge_sum = 0.0;
+        for e in mesh.edges() {
+            edge_sum += (mesh.points()[e.a as usize] - mesh.points()[e.b as usize]).length();
+        }
+        let mean_edge = edge_sum / mesh.edges().len().max(1) as f64;
+        Ok(SurfaceOptimizer {
+            faces: mesh.faces().to_vec(),
+            topo,
+            features,
+            patches,
+            tracks,
+            motion,
+            input_points: mesh.points().to_vec(),
+            mean_edge,
+        })
+    }
+
+    /// The features found at construction.
+    pub fn features(&self) -> &SurfaceFeatures {
+        &self.features
+    }
+
+    /// Number of smooth patches the feature curves cut the surface into.
+    pub fn patch_count(&self) -> usize {
+        self.patches.count()
+    }
+
+    fn surface(&self) -> Surface<'_> {
+        Surface {
+            faces: &self.faces,
+            topo: &self.topo,
+            patches: &self.patches,
+            tracks: &self.tracks,
+            motion: &self.motion,
+        }
+    }
+
+    /// The signed scaled Jacobian of every face at `state`.
+    fn values(&self, state: &State) -> Vec<f64> {
+        let surface = self.surface();
+        let value = |f: usize| surface.face_value(state, f, None);
+        if self.faces.len() >= 4 * PARALLEL_MIN {
+            (0..self.faces.len()).into_par_iter().map(value).collect()
+        } else {
+            (0..self.faces.len()).map(value).collect()
+        }
+    }
+
+    /// The signed scaled Jacobian of every face of the input (each corner against its
+    /// patch's normal at the input positions): the measure the optimizer ranks by.
+    pub fn input_values(&self) -> Vec<f64> {
+        self.values(&self.initial_state())
+    }
+
+    fn initial_state(&self) -> State {
+        State {
+            points: self.input_points.clone(),
+            params: self.tracks.initial_params(),
+            hints: vec![u32::MAX; self.input_points.len()],
+            normals: self.patches.input_corner_normals().to_vec(),
+        }
+    }
+
+    /// Optimizes `mesh`, which must have the faces and the positions this optimizer was built
+    /// for (else [`Error::ConnectivityMismatch`] or [`Error::VertexCountMismatch`]). Vertices
+    /// move on the input surface: a vertex on no feature curve within its smooth patch, one on
+    /// a feature curve along the curve's original polyline; corners and fixed vertices keep
+    /// their coordinates bit for bit. The result is never worse than the input by the signed
+    /// measure (inverted faces, then minimum, then average), no face valid in the input ends
+    /// inverted, and it is the same on any number of threads. `progress` runs after every
+    /// sweep; returning `false` cancels, keeping the best positions so far.
+    pub fn run(
+        &self,
+        mesh: &mut SurfaceMesh,
+        options: &Options,
+        progress: Option<&mut dyn FnMut(&Progress) -> bool>,
+    ) -> Result<SurfaceReport> {
+        options.validate()?;
+        if mesh.points().len() != self.input_points.len() {
+            return Err(Error::VertexCountMismatch {
+                expected: self.input_points.len(),
+                got: mesh.points().len(),
+            });
+        }
+        if mesh.faces() != self.faces.as_slice() {
+            return Err(Error::ConnectivityMismatch { expected: self.faces.len(), got: mesh.faces().len() });
+        }
+        if mesh.points() != self.input_points.as_slice() {
+            return Err(Error::InvalidOption {
+                name: "points",
+                reason: "the mesh has moved since its optimizer was built: build a new SurfaceOptimizer"
+                    .into(),
+            });
+        }
+        let start = Instant::now();
+        let run = if rayon::current_thread_index().is_some() {
+            self.run_here(options, progress)
+        } else {
+            // On quadopt's own pool, the progress callback on the calling thread (as in the plane).
+            let wants_progress = progress.is_some();
+            let job = |ask: &mut dyn FnMut(Progress) -> bool| {
+                let mut forward = |p: &Progress| ask(*p);
+                self.run_here(options, if wants_progress { Some(&mut forward) } else { None })
+            };
+            let mut progress = progress;
+            let answer = |p: Progress| progress.as_mut().is_none_or(|f| f(&p));
+            crate::pool::run_with_progress(job, answer)
+                .map_err(|crate::pool::NoThreads(why)| Error::NoThreads { why })?
+        };
+        let Run { state, input, iterations, untangle_sweeps, cancelled, max_min } = run;
+        // Only moved vertices change: the others keep their bits (they were never written).
+        mesh.set_points(&state.points)?;
+        let output_values = self.values(&state);
+        let output = QualityStats::from_values(&output_values);
+        let input_values = self.input_values();
+        let verdict = |points: &[DVec3]| {
+            QualityStats::from_values(&crate::quality3d::verdict_values(points, &self.faces))
+        };
+        Ok(SurfaceReport {
+            input,
+            output,
+            input_verdict: verdict(&self.input_points),
+            output_verdict: verdict(&state.points),
+            input_by_kind: ByFaceKind::new(&self.faces, &input_values),
+            output_by_kind: ByFaceKind::new(&self.faces, &output_values),
+            iterations,
+            untangle_sweeps,
+            cancelled,
+            max_min,
+            seconds: start.elapsed().as_secs_f64(),
+            effort: options.effort,
+            patches: self.patches.count(),
+            feature_curves: self.features.curves().len(),
+            corners: self.features.roles().iter().filter(|r| **r == VertexRole::Corner).count(),
+            movable: self.motion.iter().filter(|m| **m != Motion::Still).count(),
+            fidelity: self.fidelity(&state.points),
+        })
+    }
+
+    /// How far `points` are from the input surface and the feature vertices from their curves.
+    pub fn fidelity(&self, points: &[DVec3]) -> SurfaceFidelity {
+        let mut max_distance = 0.0f64;
+        let mut max_feature_distance = 0.0f64;
+        let surface = self.surface();
+        for (v, p) in points.iter().enumerate() {
+            if *p == self.input_points[v] {
+                continue;
+            }
+            // Every patch the vertex touches: the surface is their union.
+            let d = self
+                .topo
+                .vertex_quads(v)
+                .iter()
+                .map(|&f| {
+                    let on = surface.patches.project(surface.patches.of_face(f as usize), *p, u32::MAX);
+                    (on.point - *p).length()
+                })
+                .fold(f64::INFINITY, f64::min);
+            if d.is_finite() {
+                max_distance = max_distance.max(d);
+            }
+            if let Some(slot) = self.tracks.slot(v) {
+                max_feature_distance = max_feature_distance.max(self.tracks.track(slot.track).distance(*p));
+            }
+        }
+        SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge }
+    }
+
+    /// The run on the current thread's pool.
+    fn run_here(&self, options: &Options, mut progress: Option<&mut dyn FnMut(&Progress) -> bool>) -> Run {
+        let surface = self.surface();
+        let mut state = self.initial_state();
+        let values = self.values(&state);
+        let input = QualityStats::from_values(&values);
+        let input_inverted: Vec<bool> = values.iter().map(|&v| v <= 0.0).collect();
+        let inverts_a_valid_face = |values: &[f64]| {
+            input.inverted > 0 && values.iter().zip(&input_inverted).any(|(&v, &was)| v <= 0.0 && !was)
+        };
+        let rounds = if options.max_min { max_min_rounds(options.effort) } else { 0 };
+        let tie = if rounds > 0 { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
+        let mut best = (input, state.clone());
+        let consider = |state: &State, best: &mut (QualityStats, State), tie: f64| -> bool {
+            let values = self.values(state);
+            let stats = QualityStats::from_values(&values);
+            if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
+                *best = (stats, state.clone());
+                return true;
+            }
+            false
+        };
+        let mut cancelled = false;
+        let sweep_cap = options.sweep_cap();
+        let mut report = |iteration: usize| {
+            let p = Progress {
+                iteration,
+                max_iterations: sweep_cap,
+                energy: f64::NAN,
+                energy_change: f64::NAN,
+                pass: 1,
+                passes: 1,
+            };
+            progress.as_mut().is_none_or(|cb| cb(&p))
+        };
+
+        // 1. Untangling.
+        let mut untangle_sweeps = 0;
+        if options.untangle && input.inverted > 0 {
+            let mut lowest = input.inverted;
+            let mut stale = 0;
+            while untangle_sweeps < UNTANGLE_SWEEPS {
+                untangle_sweeps += 1;
+                let moved = self.sweep(&mut state, moves::untangle_move);
+                consider(&state, &mut best, tie);
+                let inverted = QualityStats::from_values(&self.values(&state)).inverted;
+                if !report(0) {
+                    cancelled = true;
+                    break;
+                }
+                if inverted == 0 || moved == 0 {
+                    break;
+                }
+                if inverted < lowest {
+                    (lowest, stale) = (inverted, 0);
+                } else {
+                    stale += 1;
+                    if stale >= 3 {
+                        break;
+                    }
+                }
+            }
+        }
+
+        // 2. Guarded sweeps.
+        let floor = options.guard_floor.max(input.min);
+        let rule = StepRule { method: options.method, lambda: options.lambda, guard: options.guard, floor };
+        let curves_move = options.boundary != BoundaryMode::Fixed;
+        let mut iterations = 0;
+        let mut stale = 0;
+        while !cancelled && iterations < sweep_cap {
+            iterations += 1;
+            let moved = self.sweep(&mut state, |surface, state, v, star| {
+                if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
+                    return None;
+                }
+                moves::smoothing_move(surface, state, v, &rule, star)
+            });
+            if consider(&state, &mut best, tie) {
+                stale = 0;
+            } else {
+                stale += 1;
+            }
+            if !report(iterations) {
+                cancelled = true;
+            }
+            if moved == 0 || stale >= patience(options.effort) {
+                break;
+            }
+        }
+        if options.keep_best {
+            state = best.1.clone();
+        }
+
+        // 3. The max-min stage, from the kept iterate; each round kept only if it ranks better.
+        let mut max_min = None;
+        if rounds > 0 && !cancelled {
+            let t = Instant::now();
+            let before = best.0;
+            let mut done = 0;
+            let mut current = (QualityStats::from_values(&self.values(&state)), state.clone());
+            for _ in 0..rounds {
+                let values = self.values(&current.1);
+                let mut trial = current.1.clone();
+                let moved = self.max_min_round(&surface, &mut trial, &values);
+                done += 1;
+                let gained = moved > 0 && consider(&trial, &mut current, MIN_TIE.min(1e-9));
+                if !gained {
+                    break;
+                }
+            }
+            if current.0 != before || !options.keep_best {
+                state = current.1;
+            }
+            max_min = Some(crate::smooth::report::MaxMinGain {
+                before,
+                after: QualityStats::from_values(&self.values(&state)),
+                rounds: done,
+                seconds: t.elapsed().as_secs_f64(),
+            });
+        }
+        Run { state, input, iterations, untangle_sweeps, cancelled, max_min }
+    }
+
+    /// One sweep, colour class by colour class: each class's moves computed from the same
+    /// positions (in parallel when large), then applied in order, so the result does not
+    /// depend on the thread count. Returns how many vertices moved.
+    fn sweep(
+        &self,
+        state: &mut State,
+        step: impl Fn(&Surface, &State, usize, &mut LocalStar) -> Option<Placed> + Sync,
+    ) -> usize {
+        let surface = self.surface();
+        let mut moved = 0;
+        for c in 0..self.topo.colour_count() {
+            let class = self.topo.colour_class(c);
+            let compute =
+                |star: &mut LocalStar, &v: &u32| step(&surface, state, v as usize, star).map(|p| (v, p));
+            let moves: Vec<(u32, Placed)> = if class.len() >= PARALLEL_MIN {
+                class.par_iter().map_init(LocalStar::default, compute).flatten().collect()
+            } else {
+                let mut star = LocalStar::default();
+                class.iter().filter_map(|v| compute(&mut star, v)).collect()
+            };
+            for (v, p) in &moves {
+                surface.apply(state, *v as usize, p);
+            }
+            moved += moves.len();
+        }
+        moved
+    }
+
+    /// One round of the max-min stage: the movable vertices of the worst faces (the lowest
+    /// 2%, at least 4, and every inverted one), one after the other in vertex order, each to
+    /// the best place its search finds.
+    fn max_min_round(&self, surface: &Surface, state: &mut State, values: &[f64]) -> usize {
+        let mut sorted: Vec<f64> = values.to_vec();
+        sorted.sort_unstable_by(f64::total_cmp);
+        let k = (values.len() / 50).max(4).min(values.len());
+        let threshold = sorted[k - 1].max(0.0);
+        let mut vertices: Vec<u32> = Vec::new();
+        for (f, &value) in values.iter().enumerate() {
+            if value <= threshold {
+                vertices.extend(
+                    crate::face::vertices(&self.faces[f])
+                        .iter()
+                        .filter(|&&v| self.motion[v as usize] != Motion::Still),
+                );
+            }
+        }
+        vertices.sort_unstable();
+        vertices.dedup();
+        let mut star = LocalStar::default();
+        let mut moved = 0;
+        for &v in &vertices {
+            if let Some(p) = moves::max_min_move(surface, state, v as usize, &mut star) {
+                surface.apply(state, v as usize, &p);
+                moved += 1;
+            }
+        }
+        moved
+    }
+}
+
+/// What a run leaves.
+struct Run {
+    state: State,
+    input: QualityStats,
+    iterations: usize,
+    untangle_sweeps: usize,
+    cancelled: bool,
+    max_min: Option<crate::smooth::report::MaxMinGain>,
+}

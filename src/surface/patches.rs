@@ -1,0 +1,216 @@
+//! Smooth patches of a surface and the reference surface of each, with its normals.
+//!
+//! Feature curves cut the input surface into patches (a sphere is one, a box six). A vertex
+//! that is on no feature curve lies inside one patch and is projected onto that patch only:
+//! projected onto the whole surface, a vertex near a sharp edge could land on the other side
+//! of it and fold its faces over the edge.
+//!
+//! Each patch's normal field is the input's area-weighted vertex normals over that patch's
+//! faces alone, interpolated linearly over each reference triangle (Phong): smooth inside a
+//! patch, one-sided at its feature curves, so a square corner next to a box's edge scores 1
+//! against its own face and not 0.71 against the mean of the two faces' normals.
+
+use glam::DVec3;
+
+use super::features::SurfaceFeatures;
+use super::mesh::{SurfaceMesh, face_vector_area};
+use super::reference::ReferenceSurface;
+use crate::error::Result;
+use crate::face::{self, Face};
+
+/// A point of a patch: where a query landed, and the patch's normal there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OnPatch {
+    /// The closest point of the patch.
+    pub point: DVec3,
+    /// Its triangle in the patch's reference (a hint for the next query).
+    pub triangle: u32,
+    /// The patch's unit normal there.
+    pub normal: DVec3,
+}
+
+struct Patch {
+    reference: ReferenceSurface,
+    /// The patch's normal at the three corners of each of its reference's triangles.
+    corner_normals: Vec<[DVec3; 3]>,
+}
+
+/// The patches of a surface mesh, each with its frozen reference surface.
+pub struct Patches {
+    face_patch: Vec<u32>,
+    patches: Vec<Patch>,
+    /// One-sided normal of each face's patch at each of its corners, at the input positions
+    /// (a triangle's third twice, as [`crate::quality3d::corners`] repeats its corner).
+    input_corner_normals: Vec<[DVec3; 4]>,
+}
+
+impl Patches {
+    /// Cuts `mesh` (at its current, input positions) along the feature edges of `features`.
+    pub fn new(mesh: &SurfaceMesh, features: &SurfaceFeatures) -> Result<Patches> {
+        let faces = mesh.faces();
+        let points = mesh.points();
+        // Union-find over faces across the edges that are not features.
+        let mut parent: Vec<u32> = (0..faces.len() as u32).collect();
+        fn root(parent: &mut [u32], mut f: u32) -> u32 {
+            while parent[f as usize] != f {
+                parent[f as usize] = parent[parent[f as usize] as usize];
+                f = parent[f as usize];
+            }
+            f
+        }
+        for (e, kind) in mesh.edges().iter().zip(features.edge_kinds()) {
+            if kind.any() || e.is_boundary() {
+                continue;
+            }
+            let (a, b) = (root(&mut parent, e.faces[0]), root(&mut parent, e.faces[1]));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+        // Patches numbered by their first face.
+        let mut face_patch = vec![u32::MAX; faces.len()];
+        let mut number = vec![u32::MAX; faces.len()];
+        let mut members: Vec<Vec<u32>> = Vec::new();
+        for (f, patch) in face_patch.iter_mut().enumerate() {
+            let r = root(&mut parent, f as u32) as usize;
+            if number[r] == u32::MAX {
+                number[r] = members.len() as u32;
+                members.push(Vec::new());
+            }
+            *patch = number[r];
+            members[number[r] as usize].push(f as u32);
+        }
+        // Per face corner, the sum of the vector areas of the same patch's faces at the vertex.
+        let mut at_vertex: Vec<Vec<(u32, DVec3)>> = vec![Vec::new(); points.len()];
+        for (f, face) in faces.iter().enumerate() {
+            let area = face_vector_area(points, face);
+            for &v in face::vertices(face) {
+                let list = &mut at_vertex[v as usize];
+                match list.iter_mut().find(|(p, _)| *p == face_patch[f]) {
+                    Some((_, sum)) => *sum += area,
+                    None => list.push((face_patch[f], area)),
+                }
+            }
+        }
+        let normal_of = |v: u32, patch: u32, fallback: DVec3| {
+            let sum = at_vertex[v as usize].iter().find(|(p, _)| *p == patch).map_or(DVec3::ZERO, |e| e.1);
+            let n = sum.normalize_or_zero();
+            if n == DVec3::ZERO { fallback } else { n }
+        };
+        let mut input_corner_normals = Vec::with_capacity(faces.len());
+        for (f, face) in faces.iter().enumerate() {
+            let fallback = face_vector_area(points, face).normalize_or(DVec3::Z);
+            let c = corner_vertices(face);
+            input_corner_normals.push(c.map(|v| normal_of(v, face_patch[f], fallback)));
+        }
+        let mut patches = Vec::with_capacity(members.len());
+        for (p, list) in members.iter().enumerate() {
+            let patch_faces: Vec<Face> = list.iter().map(|&f| faces[f as usize]).collect();
+            let reference = ReferenceSurface::new(points, &patch_faces)?;
+            let corner_normals = reference
+                .triangles()
+                .iter()
+                .map(|t| {
+                    let fallback = (points[t[1] as usize] - points[t[0] as usize])
+                        .cross(points[t[2] as usize] - points[t[0] as usize])
+                        .normalize_or(DVec3::Z);
+                    t.map(|v| normal_of(v, p as u32, fallback))
+                })
+                .collect();
+            patches.push(Patch { reference, corner_normals });
+        }
+        Ok(Patches { face_patch, patches, input_corner_normals })
+    }
+
+    /// Number of patches.
+    pub fn count(&self) -> usize {
+        self.patches.len()
+    }
+
+    /// The patch of face `f`.
+    pub fn of_face(&self, f: usize) -> u32 {
+        self.face_patch[f]
+    }
+
+    /// The one-sided normals at the corners of every face, at the input positions.
+    pub fn input_corner_normals(&self) -> &[[DVec3; 4]] {
+        &self.input_corner_normals
+    }
+
+    /// The closest point of patch `patch` to `p` (searched from triangle `hint`) and the
+    /// patch's normal there.
+    pub fn project(&self, patch: u32, p: DVec3, hint: u32) -> OnPatch {
+        let patch = &self.patches[patch as usize];
+        let c = patch.reference.closest_point_from(p, hint);
+        let [a, b, d] = patch.reference.triangle_corners(c.triangle);
+        let w = barycentric(c.point, a, b, d);
+        let [na, nb, nd] = patch.corner_normals[c.triangle as usize];
+        let mut normal = (na * w[0] + nb * w[1] + nd * w[2]).normalize_or_zero();
+        if normal == DVec3::ZERO {
+            normal = patch.reference.triangle_normal(c.triangle);
+        }
+        OnPatch { point: c.point, triangle: c.triangle, normal }
+    }
+}
+
+/// The four corner vertices of a face as [`crate::quality3d::corners`] takes them: a
+/// triangle's third twice.
+pub fn corner_vertices(f: &Face) -> [u32; 4] {
+    [f[0], f[1], f[2], face::fourth_corner(f)]
+}
+
+/// Barycentric coordinates of `p` (on or near the triangle's plane) in triangle `abc`,
+/// clamped to the triangle; the centroid's for a triangle without area.
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
+    let (e0, e1, ep) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
+    let (d20, d21) = (ep.dot(e0), ep.dot(e1));
+    let den = d00 * d11 - d01 * d01;
+    if den.is_nan() || den <= 0.0 || !den.is_finite() {
+        return [1.0 / 3.0; 3];
+    }
+    let v = ((d11 * d20 - d01 * d21) / den).clamp(0.0, 1.0);
+    let w = ((d00 * d21 - d01 * d20) / den).clamp(0.0, 1.0 - v);
+    [1.0 - v - w, v, w]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube of 6 quads, outward.
+    pub(crate) fn cube() -> SurfaceMesh {
+        let p: Vec<DVec3> = (0..8)
+            .map(|k| DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64))
+            .collect();
+        let f = vec![[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        SurfaceMesh::new(p, f, None).unwrap()
+    }
+
+    #[test]
+    fn a_cube_has_six_patches_with_one_sided_normals() {
+        let mesh = cube();
+        let features = SurfaceFeatures::detect_default(&mesh);
+        let patches = Patches::new(&mesh, &features).unwrap();
+        assert_eq!(patches.count(), 6);
+        for (f, normals) in patches.input_corner_normals().iter().enumerate() {
+            let own = face_vector_area(mesh.points(), &mesh.faces()[f]).normalize();
+            for n in normals {
+                assert!((*n - own).length() < 1e-15, "face {f}: {n} against {own}");
+            }
+        }
+        // A point above the top face's centre lands on it, with its normal.
+        let top = (0..6).find(|&f| mesh.faces()[f].iter().all(|&v| v >= 4)).unwrap();
+        let on = patches.project(patches.of_face(top), DVec3::new(0.5, 0.5, 3.0), 0);
+        assert_eq!(on.point, DVec3::new(0.5, 0.5, 1.0));
+        assert_eq!(on.normal, DVec3::Z);
+    }
+
+    #[test]
+    fn barycentric_coordinates_reproduce_the_point() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 1.0));
+        let p = a * 0.2 + b * 0.5 + c * 0.3;
+        let w = barycentric(p, a, b, c);
+        assert!((w[0] - 0.2).abs() < 1e-15 && (w[1] - 0.5).abs() < 1e-15 && (w[2] - 0.3).abs() < 1e-15);
+    }
+}

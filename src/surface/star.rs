@@ -1,0 +1,275 @@
+//! A vertex's star on the surface: the tangent-plane chart its planar computations run in,
+//! where a candidate lands on the surface, and the star's score there.
+//!
+//! The chart of a vertex that moves on the surface is the plane through it orthogonal to the
+//! reference patch's normal at its position ([`super::patches`]: the input's area-weighted
+//! vertex normals over the patch, interpolated over the reference triangle). Its star's
+//! vertices are projected orthogonally onto that plane, which keeps the faces' winding
+//! counter-clockwise (the normal is the faces' outward side). A chart position is lifted
+//! back into 3D on the plane and then put on the patch at its closest point; the star is
+//! always scored there, on the surface, never in the chart.
+
+use glam::{DVec2, DVec3};
+
+use super::patches::{OnPatch, Patches, corner_vertices};
+use super::tracks::{Slot, Tracks};
+use crate::face::Face;
+use crate::quality3d::signed_scaled_jacobian;
+use crate::topology::Topology;
+
+/// Most patches a moving vertex may touch (a vertex on a feature curve touches two; one at
+/// which more meet is a corner).
+pub const MAX_PATCHES: usize = 4;
+
+/// A plane through a vertex with an orthonormal basis: the vertex's chart.
+#[derive(Clone, Copy, Debug)]
+pub struct Chart {
+    origin: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+}
+
+impl Chart {
+    /// The plane through `origin` orthogonal to the unit `normal`, with `e1 x e2 = normal`.
+    pub fn new(origin: DVec3, normal: DVec3) -> Chart {
+        let e1 = normal.any_orthonormal_vector();
+        Chart { origin, e1, e2: normal.cross(e1) }
+    }
+
+    /// The orthogonal projection of `p` into the chart.
+    pub fn to_chart(self, p: DVec3) -> DVec2 {
+        let d = p - self.origin;
+        DVec2::new(d.dot(self.e1), d.dot(self.e2))
+    }
+
+    /// The point of the plane at chart position `x`.
+    pub fn lift(self, x: DVec2) -> DVec3 {
+        self.origin + self.e1 * x.x + self.e2 * x.y
+    }
+}
+
+/// How a vertex may move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Motion {
+    /// Fixed, a corner, not manifold or unused: never moves.
+    Still,
+    /// On the surface, inside patch `.0`.
+    Free(u32),
+    /// Along a feature curve.
+    Curve(Slot),
+}
+
+/// A vertex placed on the surface: its position, its arclength on its curve (on-curve
+/// vertices), a triangle hint for its next projection, and the normal of each patch around it.
+#[derive(Clone, Copy, Debug)]
+pub struct Placed {
+    pub point: DVec3,
+    pub param: f64,
+    pub hint: u32,
+    normals: [(u32, DVec3); MAX_PATCHES],
+    count: u8,
+}
+
+impl Placed {
+    /// The normal of patch `patch` at the vertex (the first one if it is not among them).
+    pub fn normal_for(&self, patch: u32) -> DVec3 {
+        self.normals[..self.count as usize].iter().find(|(p, _)| *p == patch).unwrap_or(&self.normals[0]).1
+    }
+}
+
+/// The lexicographic score of a star: fewer inverted faces, then a higher minimum, then a
+/// higher sum of the signed scaled Jacobians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Score {
+    pub inverted: u32,
+    pub min: f64,
+    pub sum: f64,
+}
+
+impl Score {
+    /// Strictly better.
+    pub fn better_than(&self, other: &Score) -> bool {
+        if self.inverted != other.inverted {
+            return self.inverted < other.inverted;
+        }
+        if self.min != other.min {
+            return self.min > other.min;
+        }
+        self.sum > other.sum
+    }
+}
+
+/// The positions and normals a sweep reads.
+#[derive(Clone, Debug)]
+pub struct State {
+    pub points: Vec<DVec3>,
+    /// Arclength of each on-curve vertex along its curve.
+    pub params: Vec<f64>,
+    /// The reference triangle each free vertex was last projected onto.
+    pub hints: Vec<u32>,
+    /// Per face, the normal of its patch at each corner ([`corner_vertices`] order).
+    pub normals: Vec<[DVec3; 4]>,
+}
+
+/// What every star computation reads besides the [`State`].
+pub struct Surface<'a> {
+    pub faces: &'a [Face],
+    pub topo: &'a Topology,
+    pub patches: &'a Patches,
+    pub tracks: &'a Tracks,
+    pub motion: &'a [Motion],
+}
+
+impl Surface<'_> {
+    /// The signed scaled Jacobian of face `f` at `state`, `v` placed at `at` if given.
+    pub fn face_value(&self, state: &State, f: usize, moved: Option<(usize, &Placed)>) -> f64 {
+        let face = &self.faces[f];
+        let cv = corner_vertices(face);
+        let mut q = cv.map(|u| state.points[u as usize]);
+        let mut n = state.normals[f];
+        if let Some((v, at)) = moved {
+            let normal = at.normal_for(self.patches.of_face(f));
+            for k in 0..4 {
+                if cv[k] as usize == v {
+                    q[k] = at.point;
+                    n[k] = normal;
+                }
+            }
+        }
+        signed_scaled_jacobian(&q, &n)
+    }
+
+    /// The score of `v`'s star, with `v` at `at` (else where it is).
+    pub fn star_score(&self, state: &State, v: usize, at: Option<&Placed>) -> Score {
+        let mut s = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+        for &f in self.topo.vertex_quads(v) {
+            let value = self.face_value(state, f as usize, at.map(|a| (v, a)));
+            s.inverted += u32::from(value <= 0.0);
+            s.min = s.min.min(value);
+            s.sum += value;
+        }
+        s
+    }
+
+    /// `v` as placed now.
+    pub fn current(&self, state: &State, v: usize) -> Placed {
+        let mut placed = Placed {
+            point: state.points[v],
+            param: state.params[v],
+            hint: state.hints[v],
+            normals: [(u32::MAX, DVec3::Z); MAX_PATCHES],
+            count: 0,
+        };
+        for &f in self.topo.vertex_quads(v) {
+            let f = f as usize;
+            let patch = self.patches.of_face(f);
+            if placed.normals[..placed.count as usize].iter().any(|(p, _)| *p == patch) {
+                continue;
+            }
+            if let Some(k) = corner_vertices(&self.faces[f]).iter().position(|&u| u as usize == v) {
+                if (placed.count as usize) < MAX_PATCHES {
+                    placed.normals[placed.count as usize] = (patch, state.normals[f][k]);
+                    placed.count += 1;
+                }
+            }
+        }
+        placed
+    }
+
+    /// Free vertex `v` of patch `patch` at the closest point of its patch to `p`.
+    pub fn place_free(&self, patch: u32, p: DVec3, hint: u32) -> Placed {
+        let OnPatch { point, triangle, normal } = self.patches.project(patch, p, hint);
+        let mut normals = [(u32::MAX, DVec3::Z); MAX_PATCHES];
+        normals[0] = (patch, normal);
+        Placed { point, param: 0.0, hint: triangle, normals, count: 1 }
+    }
+
+    /// On-curve vertex `v` at arclength `s` of its track, with the normal of each patch
+    /// around it there.
+    pub fn place_on_curve(&self, v: usize, slot: Slot, s: f64) -> Placed {
+        let point = self.tracks.track(slot.track).at(s);
+        let mut placed =
+            Placed { point, param: s, hint: 0, normals: [(u32::MAX, DVec3::Z); MAX_PATCHES], count: 0 };
+        for &f in self.topo.vertex_quads(v) {
+            let patch = self.patches.of_face(f as usize);
+            if placed.normals[..placed.count as usize].iter().any(|(p, _)| *p == patch) {
+                continue;
+            }
+            if (placed.count as usize) < MAX_PATCHES {
+                let normal = self.patches.project(patch, point, u32::MAX).normal;
+                placed.normals[placed.count as usize] = (patch, normal);
+                placed.count += 1;
+            }
+        }
+        placed
+    }
+
+    /// Moves `v` to `at` in `state`.
+    pub fn apply(&self, state: &mut State, v: usize, at: &Placed) {
+        state.points[v] = at.point;
+        state.params[v] = at.param;
+        state.hints[v] = at.hint;
+        for &f in self.topo.vertex_quads(v) {
+            let f = f as usize;
+            let normal = at.normal_for(self.patches.of_face(f));
+            let cv = corner_vertices(&self.faces[f]);
+            for (k, &u) in cv.iter().enumerate() {
+                if u as usize == v {
+                    state.normals[f][k] = normal;
+                }
+            }
+        }
+    }
+}
+
+/// A free vertex's star in its chart: the star's vertices in local numbering (0 is the
+/// vertex), its ring and full ring in local numbers, and its faces.
+#[derive(Default)]
+pub struct LocalStar {
+    pub global: Vec<u32>,
+    pub points: Vec<DVec2>,
+    pub ring: Vec<u32>,
+    pub full_ring: Vec<u32>,
+    pub faces: Vec<Face>,
+    scratch: Vec<u32>,
+}
+
+impl LocalStar {
+    fn local(&mut self, u: u32, chart: &Chart, state: &State) -> u32 {
+        if let Some(i) = self.global.iter().position(|&g| g == u) {
+            return i as u32;
+        }
+        self.global.push(u);
+        self.points.push(chart.to_chart(state.points[u as usize]));
+        (self.global.len() - 1) as u32
+    }
+
+    /// Fills in `v`'s star in `chart`.
+    pub fn build(&mut self, surface: &Surface, state: &State, v: usize, chart: &Chart) {
+        self.global.clear();
+        self.points.clear();
+        self.ring.clear();
+        self.full_ring.clear();
+        self.faces.clear();
+        self.local(v as u32, chart, state);
+        for &u in surface.topo.ring(v) {
+            let l = self.local(u, chart, state);
+            self.ring.push(l);
+        }
+        let mut scratch = std::mem::take(&mut self.scratch);
+        surface.topo.full_ring_into(surface.faces, v, &mut scratch);
+        for &u in &scratch {
+            let l = self.local(u, chart, state);
+            self.full_ring.push(l);
+        }
+        self.scratch = scratch;
+        for &f in surface.topo.vertex_quads(v) {
+            let face = surface.faces[f as usize];
+            let mut local = face;
+            for k in 0..crate::face::corner_count(&face) {
+                local[k] = self.local(face[k], chart, state);
+            }
+            self.faces.push(local);
+        }
+    }
+}

@@ -1,0 +1,220 @@
+//! The optimizer on curved surfaces (issue 33): vertices stay on the input surface and on
+//! their feature curves, corners and fixed vertices keep their bits, the result is never worse
+//! than the input and the same on any thread count.
+
+mod common;
+
+use common::Rng;
+use common::surfaces::{cube, cube_sphere, grid};
+use glam::DVec3;
+use quadopt::face::Face;
+use quadopt::surface::{SurfaceMesh, SurfaceOptimizer, SurfaceReport};
+use quadopt::{Effort, Options};
+use std::f64::consts::PI;
+
+/// Moves every vertex by `amount` times a random tangent vector (`tangent` gives the plane),
+/// then puts it back with `onto`; vertices for which `keep` holds stay.
+fn perturb(
+    points: &mut [DVec3],
+    seed: u64,
+    amount: f64,
+    keep: impl Fn(usize) -> bool,
+    normal: impl Fn(DVec3) -> DVec3,
+    onto: impl Fn(DVec3) -> DVec3,
+) {
+    let mut rng = Rng(seed);
+    for (v, p) in points.iter_mut().enumerate() {
+        if keep(v) {
+            continue;
+        }
+        let n = normal(*p);
+        let d = DVec3::new(rng.next(), rng.next(), rng.next());
+        let t = d - n * d.dot(n);
+        *p = onto(*p + t * amount);
+    }
+}
+
+fn run(mesh: &mut SurfaceMesh, options: &Options) -> SurfaceReport {
+    let optimizer = SurfaceOptimizer::new(mesh, options.feature_angle_deg, &[]).unwrap();
+    optimizer.run(mesh, options, None).unwrap()
+}
+
+/// The guarantees every run keeps.
+fn check_guarantees(report: &SurfaceReport) {
+    assert!(report.output.inverted <= report.input.inverted, "{report:?}");
+    assert!(report.output.min >= report.input.min, "{report:?}");
+    assert!(report.fidelity.max_distance_relative() < 1e-9, "{:?}", report.fidelity);
+    assert!(report.fidelity.max_feature_distance_relative() < 1e-9, "{:?}", report.fidelity);
+}
+
+fn perturbed_sphere(n: u32, amount: f64, seed: u64) -> SurfaceMesh {
+    let (mut points, faces) = cube_sphere(n);
+    perturb(&mut points, seed, amount / f64::from(n), |_| false, |p| p.normalize(), |p| p.normalize());
+    SurfaceMesh::new(points, faces, None).unwrap()
+}
+
+#[test]
+fn sphere_vertices_stay_on_the_input_surface_and_quality_rises() {
+    for effort in Effort::ALL {
+        let mut mesh = perturbed_sphere(8, 0.5, 7);
+        let input = mesh.points().to_vec();
+        let report = run(&mut mesh, &Options::default().with_effort(effort));
+        check_guarantees(&report);
+        assert_eq!(report.patches, 1);
+        assert!(report.output.min > report.input.min + 0.05, "{effort}: {report:?}");
+        assert!(report.output.avg > report.input.avg, "{effort}: {report:?}");
+        assert!(report.output_verdict.min > report.input_verdict.min, "{effort}: {report:?}");
+        // On the input's triangles, so inside the unit sphere by at most their sag, and
+        // never outside it.
+        let sag = input.iter().map(|p| 1.0 - p.length()).fold(0.0, f64::max) + 0.02;
+        for p in mesh.points() {
+            let r = p.length();
+            assert!(r <= 1.0 + 1e-12 && r > 1.0 - sag, "{p} at radius {r}");
+        }
+    }
+}
+
+#[test]
+fn cube_edges_stay_straight_and_corners_stay_put() {
+    let n = 5;
+    let (mut points, faces, lattice) = cube(n);
+    let extreme = |c: u32| c == 0 || c == n;
+    let on_edges = |v: usize| lattice[v].iter().filter(|&&c| extreme(c)).count();
+    // Face vertices move in their face's plane, edge vertices along their edge.
+    let mut rng = Rng(11);
+    for (v, p) in points.iter_mut().enumerate() {
+        let l = lattice[v];
+        if on_edges(v) == 3 {
+            continue;
+        }
+        for a in 0..3 {
+            if !extreme(l[a]) {
+                p[a] += 0.35 * rng.next() / f64::from(n);
+            }
+        }
+    }
+    let input = points.clone();
+    let mut mesh = SurfaceMesh::new(points, faces, None).unwrap();
+    let report = run(&mut mesh, &Options::best());
+    check_guarantees(&report);
+    assert_eq!((report.patches, report.feature_curves, report.corners), (6, 12, 8));
+    assert!(report.output.min > report.input.min + 0.1, "{report:?}");
+    for (v, (p, q)) in mesh.points().iter().zip(&input).enumerate() {
+        let l = lattice[v];
+        match on_edges(v) {
+            3 => assert_eq!(p.to_array().map(f64::to_bits), q.to_array().map(f64::to_bits), "corner {v}"),
+            // On an edge: its two extreme coordinates exactly.
+            2 => {
+                for a in 0..3 {
+                    if extreme(l[a]) {
+                        assert_eq!(p[a], q[a], "edge vertex {v} left its edge: {q} -> {p}");
+                    }
+                }
+            }
+            // On a face: within rounding of its plane.
+            _ => {
+                let a = (0..3).find(|&a| extreme(l[a])).unwrap();
+                assert!((p[a] - q[a]).abs() < 1e-14, "face vertex {v} left its face: {q} -> {p}");
+            }
+        }
+    }
+    // The edge vertices spread out evenly again.
+    assert!(report.output.min > 0.9, "{report:?}");
+}
+
+#[test]
+fn fixed_vertices_keep_their_bits_and_the_result_does_not_depend_on_threads() {
+    let base = perturbed_sphere(6, 0.6, 3);
+    let fixed: Vec<bool> = (0..base.points().len()).map(|v| v % 7 == 0).collect();
+    let make =
+        || SurfaceMesh::new(base.points().to_vec(), base.faces().to_vec(), Some(fixed.clone())).unwrap();
+    let mut outputs = Vec::new();
+    for threads in [1, 2, 3] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let mut mesh = make();
+        let report = pool.install(|| run(&mut mesh, &Options::default()));
+        check_guarantees(&report);
+        for (v, (p, q)) in mesh.points().iter().zip(base.points()).enumerate() {
+            if fixed[v] {
+                assert_eq!(p.to_array().map(f64::to_bits), q.to_array().map(f64::to_bits));
+            }
+        }
+        outputs.push(mesh.points().iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>());
+    }
+    assert!(outputs.windows(2).all(|w| w[0] == w[1]));
+}
+
+/// A cylinder of radius 1 and height 2 without caps, `m` segments around, `k` along.
+fn tube(m: u32, k: u32) -> (Vec<DVec3>, Vec<Face>) {
+    grid(m, k, true, false, |i, j| {
+        let a = 2.0 * PI * f64::from(i) / f64::from(m);
+        DVec3::new(a.cos(), a.sin(), 2.0 * f64::from(j) / f64::from(k))
+    })
+}
+
+#[test]
+fn tube_rims_are_slid_along_and_the_wall_is_kept() {
+    let (m, k) = (24, 8);
+    let (mut points, faces) = tube(m, k);
+    let rim = |v: usize| v < m as usize || v >= (m * k) as usize;
+    let radial = |p: DVec3| DVec3::new(p.x, p.y, 0.0).normalize();
+    perturb(&mut points, 5, 0.12, rim, radial, |p| {
+        let r = radial(p);
+        DVec3::new(r.x, r.y, p.z)
+    });
+    // The rims too, along themselves.
+    for (v, p) in points.iter_mut().enumerate() {
+        if rim(v) && v % 3 == 1 {
+            let a = p.y.atan2(p.x) + 0.3 * 2.0 * PI / f64::from(m);
+            *p = DVec3::new(a.cos(), a.sin(), p.z);
+        }
+    }
+    let input = points.clone();
+    let mut mesh = SurfaceMesh::new(points, faces, None).unwrap();
+    let report = run(&mut mesh, &Options::default());
+    check_guarantees(&report);
+    assert_eq!((report.feature_curves, report.corners), (2, 0));
+    assert!(report.output.min > report.input.min + 0.05, "{report:?}");
+    for (v, p) in mesh.points().iter().enumerate() {
+        if rim(v) {
+            assert_eq!(p.z, input[v].z, "rim vertex {v} left its rim");
+        }
+        let r = DVec3::new(p.x, p.y, 0.0).length();
+        assert!(r <= 1.0 + 1e-12 && r > 0.98, "{p}");
+    }
+}
+
+#[test]
+fn a_fold_is_untangled_on_the_sphere() {
+    let (mut points, faces) = cube_sphere(6);
+    // Push one vertex past its neighbour, along the sphere: its faces fold over.
+    let v = faces[40][0] as usize;
+    let u = faces[40][2] as usize;
+    points[v] = (points[v] + (points[u] - points[v]) * 1.6).normalize();
+    let mut mesh = SurfaceMesh::new(points, faces, None).unwrap();
+    let report = run(&mut mesh, &Options::default());
+    assert!(report.input.inverted > 0, "{report:?}");
+    check_guarantees(&report);
+    assert_eq!(report.output.inverted, 0, "{report:?}");
+    // The fold is not taken for a feature: the sphere stays one patch.
+    assert_eq!((report.patches, report.feature_curves), (1, 0));
+}
+
+#[test]
+fn a_moved_mesh_or_other_faces_are_refused() {
+    let mesh = perturbed_sphere(4, 0.3, 1);
+    let optimizer = SurfaceOptimizer::new(&mesh, 45.0, &[]).unwrap();
+    let mut other =
+        SurfaceMesh::new(mesh.points()[..mesh.points().len()].to_vec(), mesh.faces()[1..].to_vec(), None);
+    if let Ok(other) = other.as_mut() {
+        assert!(optimizer.run(other, &Options::default(), None).is_err());
+    }
+    let mut moved = mesh.clone();
+    let mut p = moved.points().to_vec();
+    p[0] *= 1.01;
+    moved.set_points(&p).unwrap();
+    let before = moved.points().to_vec();
+    assert!(optimizer.run(&mut moved, &Options::default(), None).is_err());
+    assert_eq!(moved.points(), &before[..]);
+    assert!(SurfaceOptimizer::new(&mesh, 45.0, &[[0, 0]]).is_err());
+}

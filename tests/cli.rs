@@ -169,10 +169,15 @@ fn errors_are_one_line_with_the_right_exit_code_and_no_output() {
         "penta.off: line 9: cell 1 is a polygon with 5 vertices; only triangles and quads",
         Some(&out),
     );
-    let curved = dir.join("curved.obj");
-    std::fs::write(&curved, "v 0 0 0\nv 1 0 0\nv 1 1 1\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n")
-        .unwrap();
-    fails(&["optimize", s(&curved), "-o", o], 1, "curved.obj: the mesh is not planar", Some(&out));
+    // On a curved surface too: three faces on one edge.
+    let fin = dir.join("fin.obj");
+    std::fs::write(
+        &fin,
+        "v 0 0 0\nv 1 0 0\nv 1 1 1\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 1 1 -1\nf 1 2 3 4\nf 2 5 6 3\nf 2 3 7\n",
+    )
+    .unwrap();
+    fails(&["optimize", s(&fin), "-o", o], 1, "fin.obj: ", Some(&out));
+    fails(&["optimize", g, "-o", o, "--feature-edges", s(&fin)], 2, "apply to meshes on curved surfaces", Some(&out));
     let trunc = dir.join("trunc.vtk");
     let text = io::write_mesh_string(io::Format::Vtk, &jittered_grid(3)).unwrap();
     std::fs::write(&trunc, &text[..text.len() / 2]).unwrap();
@@ -1128,7 +1133,7 @@ fn the_sample_report_has_a_row_per_face_kind_under_each_mixed_mesh() {
 /// of planar rectangles (radius 1, six 30-degree columns, two rows) scores 1 by Verdict's 3D
 /// measure on every face, and cos 15 degrees signed against the area-weighted vertex normals
 /// (radial at every vertex but the strip's two straight ends, where a face's own normal is
-/// the vertex's: each quad has a corner at 15 degrees). `optimize` still refuses it.
+/// the vertex's: each quad has a corner at 15 degrees). `optimize` keeps it on its surface.
 #[test]
 fn quality_measures_a_curved_mesh_by_both_measures() {
     let dir = scratch("curved-quality");
@@ -1173,7 +1178,15 @@ fn quality_measures_a_curved_mesh_by_both_measures() {
     assert!(quadopt(&["quality", s(&strip), "-o", s(&written)]).status.success());
     let text = std::fs::read_to_string(&written).unwrap();
     assert!(text.contains("SCALARS scaled_jacobian"), "{text}");
+    // `optimize` keeps it on its cylinder: the strip of rectangles is as good as it gets.
     let out = dir.join("out.obj");
-    fails(&["optimize", s(&strip), "-o", s(&out)], 1, "strip.obj: the mesh is not planar", Some(&out));
+    let r = json_stdout(&quadopt(&["optimize", s(&strip), "-o", s(&out), "--json"]));
+    assert_eq!(r["surface"], true);
+    assert!(r["output"]["min"].as_f64().unwrap() >= r["input"]["min"].as_f64().unwrap(), "{r}");
+    assert!(r["surface_fidelity"]["max_distance_relative"].as_f64().unwrap() < 1e-9, "{r}");
+    // Measured against its input, with the distances.
+    let v = json_stdout(&quadopt(&["quality", s(&out), "--reference", s(&strip), "--json"]));
+    assert!(v["surface_fidelity"]["max_distance"].as_f64().unwrap() < 1e-12, "{v}");
+    assert_eq!(v["min"], r["output"]["min"], "{v} {r}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

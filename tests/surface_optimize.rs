@@ -179,8 +179,10 @@ fn tube_rims_are_slid_along_and_the_wall_is_kept() {
         if rim(v) {
             assert_eq!(p.z, input[v].z, "rim vertex {v} left its rim");
         }
+        // On the input's flat faces: never outside the cylinder, and inside it by at most a
+        // face's sag (a perturbed face spans less than 35 degrees: cos 17.5 > 0.95).
         let r = DVec3::new(p.x, p.y, 0.0).length();
-        assert!(r <= 1.0 + 1e-12 && r > 0.98, "{p}");
+        assert!(r <= 1.0 + 1e-12 && r > 0.95, "{p}");
     }
 }
 

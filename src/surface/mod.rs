@@ -32,4 +32,4 @@ pub use optimizer::SurfaceOptimizer;
 pub use reference::{
     Closest, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
 };
-pub use report::{SurfaceFidelity, SurfaceReport};
+pub use report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};

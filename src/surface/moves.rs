@@ -56,17 +56,35 @@ pub fn smoothing_move(
     v: usize,
     rule: &StepRule,
     star: &mut LocalStar,
+) -> (Option<Placed>, f64) {
+    if let Motion::Free(_) = surface.motion[v] {
+        let (chart, here) = chart_of(surface, state, v, star);
+        // The torsion energy of the vertex's embedded polygon in its chart (Eq. 1).
+        let ep = embedded_polygon::target(&star.points, 0, &star.ring);
+        let target = match rule.method {
+            Method::EmbeddedPolygon => ep.point,
+            Method::Laplacian => laplacian::uniform_target(&star.points, &star.ring),
+            Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
+            Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
+        };
+        return (free_move(surface, state, v, rule, star, (chart, here), target), ep.energy);
+    }
+    (curve_or_still_move(surface, state, v, rule), 0.0)
+}
+
+/// The guarded step of free vertex `v` towards chart position `target`.
+fn free_move(
+    surface: &Surface,
+    state: &State,
+    v: usize,
+    rule: &StepRule,
+    star: &LocalStar,
+    (chart, here): (Chart, Placed),
+    target: DVec2,
 ) -> Option<Placed> {
     match surface.motion[v] {
-        Motion::Still => None,
+        Motion::Still | Motion::Curve(_) => None,
         Motion::Free(patch) => {
-            let (chart, here) = chart_of(surface, state, v, star);
-            let target = match rule.method {
-                Method::EmbeddedPolygon => embedded_polygon::target(&star.points, 0, &star.ring).point,
-                Method::Laplacian => laplacian::uniform_target(&star.points, &star.ring),
-                Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
-                Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
-            };
             let step = target * rule.lambda;
             if !step.is_finite() || step == DVec2::ZERO {
                 return None;
@@ -91,6 +109,13 @@ pub fn smoothing_move(
             // longest step along it that makes the star strictly better on the surface.
             untangling_move(surface, state, v, star, (&chart, &here), &current)
         }
+    }
+}
+
+/// The guarded step of on-curve vertex `v` towards the middle of its interval.
+fn curve_or_still_move(surface: &Surface, state: &State, v: usize, rule: &StepRule) -> Option<Placed> {
+    match surface.motion[v] {
+        Motion::Still | Motion::Free(_) => None,
         Motion::Curve(slot) => {
             let (lo, hi) = surface.tracks.interval(slot, &state.params);
             let s0 = state.params[v];

@@ -9,17 +9,19 @@ use std::time::Instant;
 use super::features::{SurfaceFeatures, VertexRole};
 use super::mesh::SurfaceMesh;
 use super::moves::{self, StepRule};
-use super::patches::Patches;
-use super::report::{SurfaceFidelity, SurfaceReport};
+use super::patches::{Patches, corner_vertices};
+use super::reference::ReferenceSurface;
+use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
 use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
 use super::tracks::Tracks;
 use crate::error::{Error, Result};
 use crate::face::Face;
 use crate::quality::{ByFaceKind, QualityStats};
 use crate::smooth::effort::Effort;
-use crate::smooth::options::{BoundaryMode, Options};
+use crate::smooth::options::{BoundaryMode, Options, StopRule};
 use crate::smooth::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves_with_tie};
 use crate::smooth::report::Progress;
+use crate::smooth::stopping::{self, Stopper};
 use crate::topology::{Topology, VertexKind};
 
 /// Classes smaller than this are computed on the calling thread (as in the plane).
@@ -27,15 +29,6 @@ const PARALLEL_MIN: usize = 512;
 
 /// Untangling sweeps at most.
 const UNTANGLE_SWEEPS: usize = 20;
-
-/// Sweeps in a row that leave the kept iterate unchanged before the sweeps stop, per preset.
-fn patience(effort: Effort) -> usize {
-    match effort {
-        Effort::Fast => Effort::FAST_STALE_SWEEPS,
-        Effort::Balanced => 3,
-        Effort::Best => 6,
-    }
-}
 
 /// Rounds of the max-min stage per preset (`best` stops earlier when a round gains nothing).
 fn max_min_rounds(effort: Effort) -> usize {
@@ -289,6 +282,56 @@ impl SurfaceOptimizer {
         SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge }
     }
 
+    /// The quality of `points`, a placement of this optimizer's mesh (another smoother's
+    /// output, say), measured against the input surface: the signed values (each corner
+    /// against the normal of its face's patch at the corner's closest point), Verdict's 3D
+    /// values, and the distances of the vertices from the whole input surface and of the
+    /// on-curve vertices from their curves. [`Error::VertexCountMismatch`] if `points` has
+    /// another length.
+    pub fn measure(&self, points: &[DVec3]) -> Result<SurfaceMeasure> {
+        if points.len() != self.input_points.len() {
+            return Err(Error::VertexCountMismatch { expected: self.input_points.len(), got: points.len() });
+        }
+        let mut state = self.initial_state();
+        if points != self.input_points.as_slice() {
+            state.points = points.to_vec();
+            for (f, face) in self.faces.iter().enumerate() {
+                let patch = self.patches.of_face(f);
+                state.normals[f] = corner_vertices(face).map(|u| {
+                    let p = points[u as usize];
+                    if p == self.input_points[u as usize] {
+                        // The input's own normal, bit for bit.
+                        let k = corner_vertices(face).iter().position(|&w| w == u).unwrap_or(0);
+                        self.patches.input_corner_normals()[f][k]
+                    } else {
+                        self.patches.project(patch, p, u32::MAX).normal
+                    }
+                });
+            }
+        }
+        let values = self.values(&state);
+        let verdict_values = crate::quality3d::verdict_values(points, &self.faces);
+        let whole = ReferenceSurface::new(&self.input_points, &self.faces)?;
+        let (mut max_distance, mut max_feature_distance) = (0.0f64, 0.0f64);
+        for (v, p) in points.iter().enumerate() {
+            if *p == self.input_points[v] || self.topo.vertex_quads(v).is_empty() {
+                continue;
+            }
+            max_distance = max_distance.max(whole.closest_point(*p).distance);
+            if let Some(slot) = self.tracks.slot(v) {
+                max_feature_distance = max_feature_distance.max(self.tracks.track(slot.track).distance(*p));
+            }
+        }
+        Ok(SurfaceMeasure {
+            signed: QualityStats::from_values(&values),
+            verdict: QualityStats::from_values(&verdict_values),
+            by_kind: ByFaceKind::new(&self.faces, &values),
+            values,
+            verdict_values,
+            fidelity: SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge },
+        })
+    }
+
     /// The run on the current thread's pool.
     fn run_here(&self, options: &Options, mut progress: Option<&mut dyn FnMut(&Progress) -> bool>) -> Run {
         let surface = self.surface();
@@ -313,15 +356,9 @@ impl SurfaceOptimizer {
         };
         let mut cancelled = false;
         let sweep_cap = options.sweep_cap();
-        let mut report = |iteration: usize| {
-            let p = Progress {
-                iteration,
-                max_iterations: sweep_cap,
-                energy: f64::NAN,
-                energy_change: f64::NAN,
-                pass: 1,
-                passes: 1,
-            };
+        let mut report = |iteration: usize, energy: f64, energy_change: f64| {
+            let p =
+                Progress { iteration, max_iterations: sweep_cap, energy, energy_change, pass: 1, passes: 1 };
             progress.as_mut().is_none_or(|cb| cb(&p))
         };
 
@@ -332,10 +369,12 @@ impl SurfaceOptimizer {
             let mut stale = 0;
             while untangle_sweeps < UNTANGLE_SWEEPS {
                 untangle_sweeps += 1;
-                let moved = self.sweep(&mut state, moves::untangle_move);
+                let (moved, _) = self.sweep(&mut state, |surface, state, v, star| {
+                    (moves::untangle_move(surface, state, v, star), 0.0)
+                });
                 consider(&state, &mut best, tie);
                 let inverted = QualityStats::from_values(&self.values(&state)).inverted;
-                if !report(0) {
+                if !report(0, f64::NAN, f64::NAN) {
                     cancelled = true;
                     break;
                 }
@@ -353,29 +392,40 @@ impl SurfaceOptimizer {
             }
         }
 
-        // 2. Guarded sweeps.
+        // 2. Guarded sweeps, stopped by the planar run's rules ([`Stopper`]; the energy is the
+        // embedded polygon's, summed over the vertices' charts).
         let floor = options.guard_floor.max(input.min);
         let rule = StepRule { method: options.method, lambda: options.lambda, guard: options.guard, floor };
         let curves_move = options.boundary != BoundaryMode::Fixed;
-        let mut iterations = 0;
-        let mut stale = 0;
+        let movable = self.motion.iter().filter(|m| **m != Motion::Still).count();
+        let mut stopper = Stopper::new(options, movable);
+        stopper.start(&QualityStats::from_values(&self.values(&state)), &best.0);
+        let stale_limit = options.effort.stale_sweeps().filter(|_| options.stop == StopRule::Quality);
+        let (mut iterations, mut stale) = (0, 0);
         while !cancelled && iterations < sweep_cap {
             iterations += 1;
-            let moved = self.sweep(&mut state, |surface, state, v, star| {
+            let (moved, energy) = self.sweep(&mut state, |surface, state, v, star| {
                 if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
-                    return None;
+                    return (None, 0.0);
                 }
                 moves::smoothing_move(surface, state, v, &rule, star)
             });
-            if consider(&state, &mut best, tie) {
-                stale = 0;
-            } else {
-                stale += 1;
+            let kept_before = best.0;
+            let values = self.values(&state);
+            let stats = QualityStats::from_values(&values);
+            if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
+                best = (stats, state.clone());
             }
-            if !report(iterations) {
+            stale = if stopping::same(&kept_before, &best.0) { stale + 1 } else { 0 };
+            let kept = if options.keep_best { best.0 } else { stats };
+            let verdict = stopper.after_sweep(&stats, &kept, energy);
+            if !report(iterations, energy, verdict.energy_change) {
                 cancelled = true;
             }
-            if moved == 0 || stale >= patience(options.effort) {
+            if verdict.stop
+                || (moved == 0 && options.stop == StopRule::Quality)
+                || stale_limit.is_some_and(|limit| stale >= limit)
+            {
                 break;
             }
         }
@@ -415,30 +465,36 @@ impl SurfaceOptimizer {
 
     /// One sweep, colour class by colour class: each class's moves computed from the same
     /// positions (in parallel when large), then applied in order, so the result does not
-    /// depend on the thread count. Returns how many vertices moved.
+    /// depend on the thread count. `step` gives a vertex's move and its energy before it.
+    /// Returns how many vertices moved and the sum of the energies (in a fixed order).
     fn sweep(
         &self,
         state: &mut State,
-        step: impl Fn(&Surface, &State, usize, &mut LocalStar) -> Option<Placed> + Sync,
-    ) -> usize {
+        step: impl Fn(&Surface, &State, usize, &mut LocalStar) -> (Option<Placed>, f64) + Sync,
+    ) -> (usize, f64) {
         let surface = self.surface();
-        let mut moved = 0;
+        let (mut moved, mut energy) = (0, 0.0);
         for c in 0..self.topo.colour_count() {
             let class = self.topo.colour_class(c);
-            let compute =
-                |star: &mut LocalStar, &v: &u32| step(&surface, state, v as usize, star).map(|p| (v, p));
-            let moves: Vec<(u32, Placed)> = if class.len() >= PARALLEL_MIN {
-                class.par_iter().map_init(LocalStar::default, compute).flatten().collect()
+            let compute = |star: &mut LocalStar, &v: &u32| {
+                let (p, e) = step(&surface, state, v as usize, star);
+                (v, p, e)
+            };
+            let moves: Vec<(u32, Option<Placed>, f64)> = if class.len() >= PARALLEL_MIN {
+                class.par_iter().map_init(LocalStar::default, compute).collect()
             } else {
                 let mut star = LocalStar::default();
-                class.iter().filter_map(|v| compute(&mut star, v)).collect()
+                class.iter().map(|v| compute(&mut star, v)).collect()
             };
-            for (v, p) in &moves {
-                surface.apply(state, *v as usize, p);
+            for (v, p, e) in &moves {
+                energy += e;
+                if let Some(p) = p {
+                    surface.apply(state, *v as usize, p);
+                    moved += 1;
+                }
             }
-            moved += moves.len();
         }
-        moved
+        (moved, energy)
     }
 
     /// One round of the max-min stage: the movable vertices of the worst faces (the lowest

@@ -71,3 +71,21 @@ pub struct SurfaceReport {
     /// Distances of the output from the input surface and feature curves.
     pub fidelity: SurfaceFidelity,
 }
+
+/// The quality of a placement of a mesh against its input surface
+/// ([`super::SurfaceOptimizer::measure`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceMeasure {
+    /// The signed scaled Jacobian of each face (the optimizer's measure).
+    pub values: Vec<f64>,
+    /// Their statistics.
+    pub signed: QualityStats,
+    /// The signed statistics of the quads and of the triangles apart.
+    pub by_kind: ByFaceKind,
+    /// Verdict's 3D scaled Jacobian of each face.
+    pub verdict_values: Vec<f64>,
+    /// Their statistics.
+    pub verdict: QualityStats,
+    /// Distances from the input surface (the whole of it) and from the feature curves.
+    pub fidelity: SurfaceFidelity,
+}

@@ -104,12 +104,19 @@ pub enum Command {
     ///
     /// For a mesh with triangles, the report adds the count, min, avg, max and inverted count
     /// of its quads and of its triangles (JSON: "faces", "triangles" and "by_kind"). A mesh on
-    /// a curved surface (not planar) is measured, not yet optimized: Verdict's 3D scaled
-    /// Jacobian (JSON "verdict") and the value signed against the surface's area-weighted
-    /// vertex normals (the main statistics, the histogram and -o's array; JSON "surface": true).
+    /// a curved surface (not planar) gets two measures: Verdict's 3D scaled Jacobian (JSON
+    /// "verdict") and the value the optimizer ranks by, each corner signed against the
+    /// surface's normal there (the main statistics, the histogram and -o's array; JSON
+    /// "surface": true).
     Quality {
         /// Input mesh.
         input: PathBuf,
+        /// For a mesh on a curved surface: measure it against the surface of REF, a mesh with
+        /// the same faces (the input it was optimized from, by quadopt or another tool), and
+        /// report the largest distances of its vertices from that surface and of its feature
+        /// vertices from their curves (JSON "surface_fidelity").
+        #[arg(long, value_name = "REF")]
+        reference: Option<PathBuf>,
         /// Also write the mesh with its per-face scaled Jacobian as cell data and its fixed
         /// and corner flags as point data (VTK, MSH); `-` writes to stdout.
         #[arg(short, long)]
@@ -209,6 +216,14 @@ pub struct OptArgs {
     /// repeatable).
     #[arg(long = "fix-physical", value_name = "NAME")]
     pub fix_physical: Vec<String>,
+    /// Mark more feature edges of a mesh on a curved surface: FILE holds two 0-based vertex
+    /// numbers per line (`#` starts a comment). Vertices on feature edges only slide along them.
+    #[arg(long = "feature-edges", value_name = "FILE")]
+    pub feature_edges: Option<PathBuf>,
+    /// Mark every edge between two nodes of the Gmsh physical curve NAME as a feature edge
+    /// (MSH input on a curved surface; repeatable).
+    #[arg(long = "feature-physical", value_name = "NAME")]
+    pub feature_physical: Vec<String>,
     #[command(flatten)]
     tune: TuneArgs,
 }
@@ -260,7 +275,8 @@ pub struct TuneArgs {
     /// Sweep cap (every preset; fast stops at 6 sweeps by itself).
     #[arg(long = "max-iter", default_value_t = Options::default().max_iterations)]
     max_iter: usize,
-    /// Boundary vertices turning by more than this many degrees are corners.
+    /// Boundary vertices turning by more than this many degrees are corners; on a curved
+    /// surface also the dihedral angle beyond which an edge is sharp (a feature edge).
     #[arg(long = "feature-angle", default_value_t = Options::default().feature_angle_deg, allow_negative_numbers = true)]
     feature_angle: f64,
 }
@@ -297,5 +313,17 @@ impl TuneArgs {
 impl OptArgs {
     pub fn options(&self) -> Result<Options, Fail> {
         self.tune.options(self.method, self.boundary)
+    }
+
+    /// Refuses the surface-only options for a planar mesh, whose boundary is its only feature.
+    pub fn check_planar(&self) -> Result<(), Fail> {
+        if self.feature_edges.is_some() || !self.feature_physical.is_empty() {
+            return Err(Fail::Usage(
+                "--feature-edges and --feature-physical apply to meshes on curved surfaces; this mesh is planar \
+                 (its corners come from --feature-angle)"
+                    .into(),
+            ));
+        }
+        Ok(())
     }
 }

@@ -26,6 +26,7 @@ mod picture;
 mod picture_files;
 mod plural;
 mod progress;
+mod surface_report;
 
 use clap::Parser;
 use cli::{Cli, Command};
@@ -63,8 +64,8 @@ fn dispatch(command: Option<Command>) -> Result<(), Fail> {
         Some(Command::Optimize { input, output, format, encoding, opts, picture, json }) => {
             commands::optimize(&input, &output, format, &encoding, &opts, picture.as_deref(), json)
         }
-        Some(Command::Quality { input, output, format, encoding, json }) => {
-            commands::quality(&input, output.as_deref(), format, &encoding, json)
+        Some(Command::Quality { input, reference, output, format, encoding, json }) => {
+            commands::quality(&input, reference.as_deref(), output.as_deref(), format, &encoding, json)
         }
         Some(Command::Compare { inputs, tune, json }) => commands::compare(&inputs, &tune, json),
         Some(Command::Draw { input, output, optimized, before_after, opts }) => {

@@ -24,28 +24,86 @@ pub fn load(path: &Path, fix: &[String]) -> Result<Loaded, Fail> {
     Ok(Loaded { data, planar })
 }
 
-/// A mesh file as `quality` reads it: planar (what every command optimizes) or on a curved
-/// surface (measured only, for now).
-pub enum Measured {
+/// A mesh file as the commands read it: planar (optimized in its plane, as ever) or on a
+/// curved surface (optimized on that surface).
+pub enum Input {
     Planar(Loaded),
-    Curved { data: MeshData, surface: SurfaceMesh },
+    Curved(Curved),
 }
 
-/// Reads a mesh for `quality`: a mesh [`load`] refuses as not planar is measured as a surface
-/// mesh in 3D instead; every other error is [`load`]'s.
-pub fn load_measured(path: &Path) -> Result<Measured, Fail> {
-    let data = openmesh_io::read_mesh(path)?;
+/// A mesh on a curved surface.
+pub struct Curved {
+    pub data: MeshData,
+    pub surface: SurfaceMesh,
+}
+
+/// Reads `path` as [`load`] does; a mesh that is not planar is read as a surface mesh in 3D
+/// instead; every other error is [`load`]'s.
+pub fn load_input(path: &Path, fix: &[String]) -> Result<Input, Fail> {
+    let mut data = openmesh_io::read_mesh(path)?;
     let failed = |e: &dyn std::fmt::Display| Fail::Other(format!("{}: {e}", path.display()));
+    fix_physical(&mut data, fix).map_err(|e| failed(&e))?;
     match PlanarMesh::new(&data) {
-        Ok(planar) => Ok(Measured::Planar(Loaded { data, planar })),
+        Ok(planar) => Ok(Input::Planar(Loaded { data, planar })),
         Err(io::IoError::Mesh(quadopt::Error::NotPlanar { .. })) => {
             let points = data.points.iter().map(|&p| DVec3::from_array(p)).collect();
             let surface =
                 SurfaceMesh::new(points, data.quads.clone(), data.fixed.clone()).map_err(|e| failed(&e))?;
-            Ok(Measured::Curved { data, surface })
+            Ok(Input::Curved(Curved { data, surface }))
         }
         Err(e) => Err(failed(&e)),
     }
+}
+
+/// The feature edges a user marks for a surface mesh: the pairs of `--feature-edges FILE`
+/// (two 0-based vertex numbers per line; `#` starts a comment) and, for each name of
+/// `--feature-physical`, every edge of the mesh whose two vertices are nodes of that Gmsh
+/// physical curve.
+pub fn marked_edges(
+    data: &MeshData,
+    surface: &SurfaceMesh,
+    file: Option<&Path>,
+    physical: &[String],
+) -> Result<Vec<[u32; 2]>, Fail> {
+    let mut edges = Vec::new();
+    if let Some(file) = file {
+        let text = std::fs::read_to_string(file)
+            .map_err(|e| Fail::Other(format!("cannot read the feature edges {}: {e}", file.display())))?;
+        for (k, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let bad = || {
+                Fail::Other(format!(
+                    "{}:{}: expected two vertex numbers, found '{line}'",
+                    file.display(),
+                    k + 1
+                ))
+            };
+            let numbers: Vec<u32> = line
+                .split(|c: char| c.is_whitespace() || c == ',')
+                .filter(|t| !t.is_empty())
+                .map(|t| t.parse().map_err(|_| bad()))
+                .collect::<Result<_, _>>()?;
+            match numbers[..] {
+                [a, b] => edges.push([a, b]),
+                _ => return Err(bad()),
+            }
+        }
+    }
+    for name in physical {
+        let groups: Vec<&io::PhysicalGroup> =
+            data.physical_groups.iter().filter(|g| &g.name == name && g.dim == 1).collect();
+        if groups.is_empty() {
+            return Err(Fail::Other(format!("--feature-physical {name}: no physical curve of that name")));
+        }
+        for g in groups {
+            let inside = |v: u32| g.nodes.binary_search(&v).is_ok();
+            edges.extend(surface.edges().iter().filter(|e| inside(e.a) && inside(e.b)).map(|e| [e.a, e.b]));
+        }
+    }
+    Ok(edges)
 }
 
 /// Pins every node of the physical points and curves named `names` (all groups of a name).

@@ -2,6 +2,7 @@
 
 use crate::fail::Fail;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use quadopt::surface::{SurfaceMesh, SurfaceOptimizer, SurfaceReport};
 use quadopt::{Mesh, Optimizer, Options, Progress, Report};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
@@ -17,8 +18,24 @@ pub fn run(
     options: &Options,
     progress: bool,
 ) -> Result<Report, Fail> {
+    Ok(with_bar(progress, |cb| optimizer.run(mesh, options, cb))?)
+}
+
+/// [`run`] for a mesh on a curved surface.
+pub fn run_surface(
+    optimizer: &SurfaceOptimizer,
+    mesh: &mut SurfaceMesh,
+    options: &Options,
+    progress: bool,
+) -> Result<SurfaceReport, Fail> {
+    Ok(with_bar(progress, |cb| optimizer.run(mesh, options, cb))?)
+}
+
+/// Calls `f` with a progress callback that draws the bar, when `progress` is asked for and
+/// stderr is a terminal; else without one.
+fn with_bar<R>(progress: bool, f: impl FnOnce(Option<&mut dyn FnMut(&Progress) -> bool>) -> R) -> R {
     if !progress || !std::io::stderr().is_terminal() {
-        return Ok(optimizer.run(mesh, options, None)?);
+        return f(None);
     }
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
@@ -37,13 +54,18 @@ pub fn run(
             b.set_prefix(format!("pass {}/{}", p.pass, p.passes));
             b.set_length(p.max_iterations as u64);
             b.set_position(p.iteration as u64);
-            b.set_message(format!("energy {:.6e}", p.energy));
+            // A surface run has no energy to show.
+            if p.energy.is_nan() {
+                b.set_message("on the surface".to_string());
+            } else {
+                b.set_message(format!("energy {:.6e}", p.energy));
+            }
         }
         true
     };
-    let report = optimizer.run(mesh, options, Some(&mut cb));
+    let result = f(Some(&mut cb));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    Ok(report?)
+    result
 }

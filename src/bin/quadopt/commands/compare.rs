@@ -4,10 +4,11 @@
 use crate::cli::TuneArgs;
 use crate::fail::Fail;
 use crate::json::{by_kind_json, stats_json};
-use crate::mesh_files::{Loaded, load};
+use crate::mesh_files::{Curved, Input, Loaded, load_input};
 use crate::plural::count;
-use crate::progress::run;
+use crate::progress::{run, run_surface};
 use quadopt::quality::ByFaceKind;
+use quadopt::surface::SurfaceOptimizer;
 use quadopt::{BoundaryMode, Method, Optimizer, Options, QualityStats};
 use serde_json::{Value, json};
 use std::path::PathBuf;
@@ -28,15 +29,51 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
     let configs: Vec<Options> = COMPARE.iter().map(|&(m, b)| tune.options(m, b)).collect::<Result<_, _>>()?;
     let mut rows = Vec::new();
     for input in inputs {
-        let Loaded { data, planar } = load(input, &[])?;
-        let optimizer = Optimizer::new(&planar.mesh);
-        let mut results = Vec::new();
-        for options in &configs {
-            let mut mesh = planar.mesh.clone();
-            results.push(run(&optimizer, &mut mesh, options, !as_json)?);
-        }
-        let kinds = planar.mesh.quality_by_face_kind();
-        rows.push((input, data.points.len(), kinds, planar.mesh.quality(), results));
+        let row = match load_input(input, &[])? {
+            Input::Planar(Loaded { data, planar }) => {
+                let optimizer = Optimizer::new(&planar.mesh);
+                let mut results = Vec::new();
+                for options in &configs {
+                    let mut mesh = planar.mesh.clone();
+                    let r = run(&optimizer, &mut mesh, options, !as_json)?;
+                    results.push(Outcome {
+                        output: r.output,
+                        by_kind: r.output_by_kind,
+                        iterations: r.iterations,
+                        seconds: r.seconds,
+                        converged: r.converged,
+                    });
+                }
+                let kinds = planar.mesh.quality_by_face_kind();
+                (input, data.points.len(), kinds, planar.mesh.quality(), results)
+            }
+            // On a curved surface, the signed measure; a boundary mode other than fixed slides
+            // the feature vertices along their curves.
+            Input::Curved(Curved { data, surface }) => {
+                let fail = |e: quadopt::Error| Fail::Other(format!("{}: {e}", input.display()));
+                let mut results = Vec::new();
+                let mut input_stats = None;
+                let angle = configs[0].feature_angle_deg;
+                let optimizer = SurfaceOptimizer::new(&surface, angle, &[]).map_err(fail)?;
+                for options in &configs {
+                    let mut mesh = surface.clone();
+                    let r = run_surface(&optimizer, &mut mesh, options, !as_json)?;
+                    input_stats = Some((r.input_by_kind, r.input));
+                    // A surface run converges when the sweeps stop before their cap.
+                    let converged = r.iterations < options.sweep_cap();
+                    results.push(Outcome {
+                        output: r.output,
+                        by_kind: r.output_by_kind,
+                        iterations: r.iterations,
+                        seconds: r.seconds,
+                        converged,
+                    });
+                }
+                let (kinds, q) = input_stats.expect("compare runs at least one configuration");
+                (input, data.points.len(), kinds, q, results)
+            }
+        };
+        rows.push(row);
     }
     if as_json {
         let meshes: Vec<Value> = rows
@@ -54,7 +91,7 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
                             "seconds": r.seconds, "converged": r.converged,
                         });
                         if mixed {
-                            run["output_by_kind"] = by_kind_json(&r.output_by_kind);
+                            run["output_by_kind"] = by_kind_json(&r.by_kind);
                         }
                         run
                     })
@@ -94,7 +131,7 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
             for (label, stats) in by_kind {
                 out!("{label:24} {:>15}", pair(stats(kinds)));
                 for r in results {
-                    out!(" {:>15}", pair(stats(&r.output_by_kind)));
+                    out!(" {:>15}", pair(stats(&r.by_kind)));
                 }
                 outln!();
             }
@@ -105,3 +142,12 @@ pub fn compare(inputs: &[PathBuf], tune: &TuneArgs, as_json: bool) -> Result<(),
 
 /// One face kind's statistics out of a [`ByFaceKind`].
 type KindStats = fn(&ByFaceKind) -> Option<QualityStats>;
+
+/// What a configuration's run gave, on a planar mesh or a surface.
+struct Outcome {
+    output: QualityStats,
+    by_kind: ByFaceKind,
+    iterations: usize,
+    seconds: f64,
+    converged: bool,
+}

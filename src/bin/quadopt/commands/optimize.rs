@@ -5,14 +5,16 @@ use crate::annotation::{annotate, corner_flags};
 use crate::cli::{EncodingArgs, OptArgs};
 use crate::fail::Fail;
 use crate::json::{by_kind_json, report_json, stats_json};
-use crate::mesh_files::{Loaded, MeshWriter, load};
+use crate::mesh_files::{Curved, Input, Loaded, MeshWriter, load_input, marked_edges};
 use crate::picture;
 use crate::picture_files::{PictureFormat, write_picture};
 use crate::plural::{count, face_words, faces};
-use crate::progress::run;
+use crate::progress::{run, run_surface};
 use crate::stdout::{is_stdout, report_on_stderr_if_written_to_stdout};
+use crate::surface_report;
 use quadopt::io::Format;
-use quadopt::{Optimizer, Report};
+use quadopt::surface::SurfaceOptimizer;
+use quadopt::{Optimizer, Options, Report};
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -31,7 +33,17 @@ pub fn optimize(
     }
     let picture_format = picture.map(PictureFormat::of).transpose()?;
     let writer = MeshWriter::for_output(output, format, Format::from_path(input).ok())?;
-    let Loaded { mut data, mut planar } = load(input, &opts.fix_physical)?;
+    let Loaded { mut data, mut planar } = match load_input(input, &opts.fix_physical)? {
+        Input::Planar(loaded) => {
+            opts.check_planar()?;
+            loaded
+        }
+        Input::Curved(curved) => {
+            let out =
+                Output { path: output, writer, encoding, picture: picture.zip(picture_format), as_json };
+            return optimize_surface(input, curved, &options, opts, out);
+        }
+    };
     // Before the optimizer's topology exists, so that the run's peak memory is not raised.
     let corners = corner_flags(&planar.mesh, &options);
     // `write_back` puts the quads back: meanwhile the file's copy is 16 bytes a quad for
@@ -177,4 +189,105 @@ fn print_tangled(r: &Report, mixed: bool) {
     if r.tangled.len() > 20 {
         outln!("  ... and {} more", r.tangled.len() - 20);
     }
+}
+
+/// Where `optimize` writes.
+struct Output<'a> {
+    path: &'a Path,
+    writer: MeshWriter,
+    encoding: &'a EncodingArgs,
+    picture: Option<(&'a Path, PictureFormat)>,
+    as_json: bool,
+}
+
+/// `optimize` for a mesh on a curved surface: every vertex stays on the input surface (and a
+/// feature vertex on its curve); the written mesh keeps the file's faces and 3D coordinates.
+fn optimize_surface(
+    input: &Path,
+    curved: Curved,
+    options: &Options,
+    opts: &OptArgs,
+    out: Output,
+) -> Result<(), Fail> {
+    let Curved { mut data, mut surface } = curved;
+    let marked = marked_edges(&data, &surface, opts.feature_edges.as_deref(), &opts.feature_physical)?;
+    let optimizer = SurfaceOptimizer::new(&surface, options.feature_angle_deg, &marked)
+        .map_err(|e| Fail::Other(format!("{}: {e}", input.display())))?;
+    let before = out.picture.map(|_| surface.clone());
+    let report = run_surface(&optimizer, &mut surface, options, !out.as_json)?;
+    let measure = optimizer.measure(surface.points())?;
+    if let (Some((path, format)), Some(before)) = (out.picture, &before) {
+        let title = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let headings = [
+            "input".to_string(),
+            format!("optimized ({}, effort {})", options.method.name(), options.effort),
+        ];
+        let p = picture::surface::before_after(
+            (before, &optimizer.measure(before.points())?.values),
+            (&surface, &measure.values),
+            &title,
+            headings.each_ref().map(String::as_str),
+        );
+        write_picture(path, format, &p)?;
+    }
+    let mut moved = 0;
+    for (p, q) in data.points.iter_mut().zip(surface.points()) {
+        let q = q.to_array();
+        if *p != q {
+            *p = q;
+            moved += 1;
+        }
+    }
+    surface_report::annotate(&mut data, &optimizer, &measure, surface.fixed());
+    out.encoding.apply(&mut data);
+    out.writer.write(out.path, &data)?;
+    report_on_stderr_if_written_to_stdout(out.path);
+    let mixed = report.output_by_kind.triangle_count > 0;
+    if out.as_json {
+        let mut v = surface_report::report_json(&report);
+        v["moved"] = json!(moved);
+        v["method"] = json!(options.method.name());
+        v["boundary"] = json!(options.boundary.name());
+        v["vertices"] = json!(data.points.len());
+        v["quads"] = json!(report.output_by_kind.quad_count);
+        if mixed {
+            v["triangles"] = json!(report.output_by_kind.triangle_count);
+            v["faces"] = json!(data.quads.len());
+        }
+        v["input_file"] = json!(input.display().to_string());
+        v["output_file"] = json!(out.path.display().to_string());
+        if let Some((path, _)) = out.picture {
+            v["picture_file"] = json!(path.display().to_string());
+        }
+        outln!("{v}");
+        return Ok(());
+    }
+    outln!(
+        "{}: {}, {}, on a curved surface",
+        input.display(),
+        count(data.points.len(), "vertex", "vertices"),
+        faces(report.output_by_kind.quad_count, report.output_by_kind.triangle_count)
+    );
+    outln!(
+        "method {}, feature curves {}, effort {}",
+        options.method.name(),
+        if options.boundary == quadopt::BoundaryMode::Fixed { "fixed" } else { "slide" },
+        report.effort
+    );
+    surface_report::print_report(&report, moved);
+    if mixed {
+        outln!("input by face kind (signed):");
+        super::quality::print_kinds(&report.input_by_kind);
+        outln!("output by face kind (signed):");
+        super::quality::print_kinds(&report.output_by_kind);
+    }
+    if let Some((path, _)) = out.picture {
+        outln!("wrote the picture {}", path.display());
+    }
+    if is_stdout(out.path) {
+        outln!("wrote the mesh to stdout");
+    } else {
+        outln!("wrote {}", out.path.display());
+    }
+    Ok(())
 }

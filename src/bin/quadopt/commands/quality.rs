@@ -5,44 +5,82 @@ use crate::annotation::{annotate, corner_flags};
 use crate::cli::EncodingArgs;
 use crate::fail::Fail;
 use crate::json::{by_kind_json, stats_json};
-use crate::mesh_files::{Loaded, Measured, MeshWriter, load_measured};
+use crate::mesh_files::{Curved, Input, Loaded, MeshWriter, load_input};
 use crate::picture;
 use crate::plural::{count, faces as faces_phrase};
 use crate::stdout::report_on_stderr_if_written_to_stdout;
+use crate::surface_report;
 use quadopt::io::Format;
 use quadopt::quality::ByFaceKind;
+use quadopt::surface::{SurfaceMesh, SurfaceOptimizer};
 use quadopt::{Options, QualityStats};
 use serde_json::json;
 use std::path::Path;
 
 pub fn quality(
     input: &Path,
+    reference: Option<&Path>,
     output: Option<&Path>,
     format: Option<Format>,
     encoding: &EncodingArgs,
     as_json: bool,
 ) -> Result<(), Fail> {
-    let (mut data, faces, values, verdict) = match load_measured(input)? {
-        Measured::Planar(Loaded { mut data, planar }) => {
+    let mut surface = None;
+    let (mut data, faces, values) = match load_input(input, &[])? {
+        Input::Planar(Loaded { mut data, planar }) => {
+            if reference.is_some() {
+                return Err(Fail::Usage(format!(
+                    "--reference measures a mesh on a curved surface; {} is planar",
+                    input.display()
+                )));
+            }
             let values = planar.mesh.quality_values();
             if output.is_some() {
                 let corners = corner_flags(&planar.mesh, &Options::default());
                 annotate(&mut data, &planar, corners);
             }
-            (data, planar.mesh.faces().to_vec(), values, None)
+            (data, planar.mesh.faces().to_vec(), values)
         }
-        // A mesh on a curved surface: Verdict's 3D scaled Jacobian (what VTK's vtkMeshQuality
-        // prints) next to the value the optimizer ranks by, each corner signed against the
-        // surface's normal there (the input's area-weighted vertex normal), so a fold counts
-        // as inverted. The signed values are the main statistics, the histogram and -o's
-        // array. Such meshes are measured, not yet optimized.
-        Measured::Curved { mut data, surface } => {
-            let values = surface.signed_quality_values();
-            let verdict = QualityStats::from_values(&surface.verdict_quality_values());
-            data.quality = Some(values.clone());
-            (data, surface.faces().to_vec(), values, Some(verdict))
+        // A mesh on a curved surface: the signed value the optimizer ranks by (each corner
+        // against the normal of the surface there, so a fold counts as inverted) and Verdict's
+        // 3D scaled Jacobian (what VTK's vtkMeshQuality prints), against the mesh's own surface
+        // or, with --reference, against that mesh's (the same faces: an input whose output
+        // this is), with the distances from it.
+        Input::Curved(Curved { mut data, surface: mesh }) => {
+            let reference_mesh = match reference {
+                None => None,
+                Some(path) => match load_input(path, &[])? {
+                    Input::Curved(Curved { surface: r, .. }) => Some(r),
+                    Input::Planar(Loaded { data: r, .. }) => Some(
+                        SurfaceMesh::new(
+                            r.points.iter().map(|&p| glam::DVec3::from_array(p)).collect(),
+                            r.quads.clone(),
+                            None,
+                        )
+                        .map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?,
+                    ),
+                },
+            };
+            let base = reference_mesh.as_ref().unwrap_or(&mesh);
+            if base.faces() != mesh.faces() {
+                return Err(Fail::Other(format!(
+                    "{} does not have the faces of the reference {}",
+                    input.display(),
+                    reference.map_or(String::new(), |r| r.display().to_string())
+                )));
+            }
+            let optimizer = SurfaceOptimizer::new(base, Options::default().feature_angle_deg, &[])
+                .map_err(|e| Fail::Other(format!("{}: {e}", input.display())))?;
+            let measure = optimizer.measure(mesh.points())?;
+            surface_report::annotate(&mut data, &optimizer, &measure, mesh.fixed());
+            let values = measure.values.clone();
+            surface = Some(measure);
+            (data, mesh.faces().to_vec(), values)
         }
     };
+    if output.is_none() {
+        data.quality = None;
+    }
     if let Some(output) = output {
         encoding.apply(&mut data);
         MeshWriter::for_output(output, format, Format::from_path(input).ok())?.write(output, &data)?;
@@ -64,15 +102,18 @@ pub fn quality(
             v["faces"] = json!(values.len());
             v["by_kind"] = by_kind_json(&kinds);
         }
-        if let Some(verdict) = &verdict {
+        if let Some(m) = &surface {
             v["surface"] = json!(true);
-            v["verdict"] = stats_json(verdict);
+            v["verdict"] = stats_json(&m.verdict);
+            if reference.is_some() {
+                v["surface_fidelity"] = surface_report::fidelity_json(&m.fidelity);
+            }
         }
         v["histogram"] = json!(h);
         outln!("{v}");
         return Ok(());
     }
-    let curved = if verdict.is_some() { ", on a curved surface (measured; not optimized yet)" } else { "" };
+    let curved = if surface.is_some() { ", on a curved surface" } else { "" };
     outln!(
         "{}: {}, {}{curved}",
         input.display(),
@@ -82,11 +123,14 @@ pub fn quality(
     let line = |label: &str, s: &QualityStats| {
         outln!("{label}: min {:.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted)
     };
-    match &verdict {
+    match &surface {
         None => line("scaled Jacobian", &s),
-        Some(verdict) => {
-            line("scaled Jacobian (Verdict, 3D)", verdict);
+        Some(m) => {
+            line("scaled Jacobian (Verdict, 3D)", &m.verdict);
             line("signed against the surface normal", &s);
+            if reference.is_some() {
+                surface_report::print_fidelity(&m.fidelity);
+            }
         }
     }
     if mixed {

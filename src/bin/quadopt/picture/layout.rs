@@ -9,6 +9,7 @@ use crate::plural::face_words;
 use glam::DVec2;
 use quadopt::quality::ByFaceKind;
 use quadopt::{Mesh, QualityStats, face};
+use std::borrow::Cow;
 
 const MARGIN: f32 = 20.0;
 /// The width of an inverted face's outline and hatching: wider than any edge, so that an
@@ -28,10 +29,44 @@ const PLOT: f32 = 160.0;
 const TICK_STEPS: [u32; 4] = [2, 5, 10, 20];
 const MAX_TICK_STEPS: u32 = 5;
 
+/// What a panel shows: faces over points in the drawing's plane (y up), each face's value
+/// (its colour), and the order to draw them in (later over earlier; all in order if `None`).
+pub struct Panel<'a> {
+    pub points: Cow<'a, [DVec2]>,
+    pub faces: &'a [face::Face],
+    pub values: Vec<f64>,
+    pub order: Option<Vec<u32>>,
+}
+
+impl<'a> Panel<'a> {
+    /// A planar mesh as it lies, coloured by its scaled Jacobians.
+    pub fn of_mesh(mesh: &'a Mesh) -> Panel<'a> {
+        Panel {
+            points: Cow::Borrowed(mesh.points()),
+            faces: mesh.faces(),
+            values: mesh.quality_values(),
+            order: None,
+        }
+    }
+
+    /// The faces to draw, in order.
+    fn drawn(&self) -> Box<dyn Iterator<Item = usize> + '_> {
+        match &self.order {
+            Some(order) => Box::new(order.iter().map(|&f| f as usize)),
+            None => Box::new(0..self.faces.len()),
+        }
+    }
+}
+
 /// One mesh and its title line.
 pub fn single(mesh: &Mesh, title: &str) -> Picture {
+    single_panel(&Panel::of_mesh(mesh), title)
+}
+
+/// One panel and its title line.
+pub fn single_panel(panel: &Panel, title: &str) -> Picture {
     let mut p = Builder::new(title);
-    let panels = p.panels(&[mesh], 800.0);
+    let panels = p.panels(&[panel], 800.0);
     p.legend(panels.right + GAP, panels.top);
     p.finish()
 }
@@ -41,12 +76,17 @@ pub fn single(mesh: &Mesh, title: &str) -> Picture {
 /// of both below. A mesh with triangles has two more lines under each panel, the min and avg
 /// of its quads and of its triangles, and its histogram counts faces.
 pub fn before_after(before: &Mesh, after: &Mesh, title: &str, headings: [&str; 2]) -> Picture {
+    before_after_panels([&Panel::of_mesh(before), &Panel::of_mesh(after)], title, headings)
+}
+
+/// [`before_after`] of two panels of one mesh.
+pub fn before_after_panels(shown: [&Panel; 2], title: &str, headings: [&str; 2]) -> Picture {
     let mut p = Builder::new(title);
-    let values = [before.quality_values(), after.quality_values()];
-    let mixed = before.triangle_count() > 0;
+    let values = shown.map(|panel| panel.values.clone());
+    let mixed = shown[0].faces.iter().any(face::is_triangle);
     let heading_top = p.bottom + 14.0;
     p.bottom = heading_top + TEXT as f32 + 8.0;
-    let panels = p.panels(&[before, after], 560.0);
+    let panels = p.panels(&shown, 560.0);
     let mut bottom = panels.bottom;
     for (i, (heading, values)) in headings.iter().zip(&values).enumerate() {
         let x = panels.left[i];
@@ -59,7 +99,7 @@ pub fn before_after(before: &Mesh, after: &Mesh, title: &str, headings: [&str; 2
         );
         bottom = bottom.max(panels.bottom + 10.0 + TEXT as f32);
         if mixed {
-            let k = ByFaceKind::new(if i == 0 { before } else { after }.faces(), values);
+            let k = ByFaceKind::new(shown[i].faces, values);
             for (line, (name, s)) in [("quads", k.quads), ("triangles", k.triangles)].into_iter().enumerate()
             {
                 let y = panels.bottom + 10.0 + (line + 1) as f32 * (TEXT as f32 + 4.0);
@@ -109,11 +149,11 @@ impl Builder {
 
     /// The meshes in a row below what is there, the longer side of their common bounding box
     /// `size` pixels.
-    fn panels(&mut self, meshes: &[&Mesh], size: f64) -> Panels {
+    fn panels(&mut self, meshes: &[&Panel], size: f64) -> Panels {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for m in meshes {
-            let points = m.points();
-            for &v in m.faces().iter().flat_map(face::vertices) {
+            let points = &m.points;
+            for &v in m.faces.iter().flat_map(face::vertices) {
                 lo = lo.min(points[v as usize]);
                 hi = hi.max(points[v as usize]);
             }
@@ -126,11 +166,11 @@ impl Builder {
         for (i, m) in meshes.iter().enumerate() {
             let x0 = MARGIN + i as f32 * (w + GAP);
             left.push(x0);
-            let points = m.points();
+            let points = &m.points;
             let map = |p: DVec2| [x0 + ((p.x - lo.x) * scale) as f32, top + ((hi.y - p.y) * scale) as f32];
-            let mut faces = Vec::with_capacity(m.faces().len());
+            let mut faces = Vec::with_capacity(m.faces.len());
             let mut marks = Vec::new();
-            for (f, sj) in m.faces().iter().zip(m.quality_values()) {
+            for (f, sj) in m.drawn().map(|f| (&m.faces[f], m.values[f])) {
                 let corners =
                     f.map(|v| if v == face::NO_VERTEX { [0.0; 2] } else { map(points[v as usize]) });
                 let corners = &corners[..face::corner_count(f)];
@@ -139,7 +179,7 @@ impl Builder {
                     marks.push(hatch::mark(corners, Some(format!("inverted: {sj:.4}"))));
                 }
             }
-            let stroke = 0.6f64.min(0.15 * size / (m.faces().len() as f64).sqrt().max(1.0)) as f32;
+            let stroke = 0.6f64.min(0.15 * size / (m.faces.len() as f64).sqrt().max(1.0)) as f32;
             self.push(Item::Faces { faces, stroke });
             if !marks.is_empty() {
                 self.push(Item::Marks { marks, width: MARK_WIDTH });

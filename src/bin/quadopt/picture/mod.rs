@@ -12,6 +12,7 @@
 pub mod hatch;
 pub mod layout;
 pub mod png;
+pub mod surface;
 pub mod svg;
 
 /// An sRGB colour.

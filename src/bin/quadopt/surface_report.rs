@@ -1,0 +1,95 @@
+//! Reports of meshes on curved surfaces: the two measures (the signed one the optimizer ranks
+//! by, and Verdict's 3D one) and the distances from the input surface, as text and JSON.
+
+use crate::json::{by_kind_json, stats_json};
+use crate::plural::count;
+use quadopt::QualityStats;
+use quadopt::io::MeshData;
+use quadopt::surface::{SurfaceFidelity, SurfaceMeasure, SurfaceOptimizer, SurfaceReport, VertexRole};
+use serde_json::{Value, json};
+
+/// The distances as JSON.
+pub fn fidelity_json(f: &SurfaceFidelity) -> Value {
+    json!({
+        "max_distance": f.max_distance,
+        "max_distance_relative": f.max_distance_relative(),
+        "max_feature_distance": f.max_feature_distance,
+        "max_feature_distance_relative": f.max_feature_distance_relative(),
+        "mean_edge": f.mean_edge,
+    })
+}
+
+/// A surface run as JSON: the keys of a planar run's report that apply, `"surface": true`,
+/// Verdict's statistics and the distances.
+pub fn report_json(r: &SurfaceReport) -> Value {
+    let mut v = json!({
+        "surface": true,
+        "input": stats_json(&r.input),
+        "output": stats_json(&r.output),
+        "input_verdict": stats_json(&r.input_verdict),
+        "output_verdict": stats_json(&r.output_verdict),
+        "iterations": r.iterations,
+        "untangle_sweeps": r.untangle_sweeps,
+        "seconds": r.seconds,
+        "effort": r.effort.name(),
+        "cancelled": r.cancelled,
+        "patches": r.patches,
+        "feature_curves": r.feature_curves,
+        "corners": r.corners,
+        "movable": r.movable,
+        "surface_fidelity": fidelity_json(&r.fidelity),
+        "max_min": r.max_min.map(|g| json!({
+            "before": stats_json(&g.before), "after": stats_json(&g.after),
+            "rounds": g.rounds, "seconds": g.seconds,
+        })),
+    });
+    if r.output_by_kind.triangle_count > 0 {
+        v["input_by_kind"] = by_kind_json(&r.input_by_kind);
+        v["output_by_kind"] = by_kind_json(&r.output_by_kind);
+    }
+    v
+}
+
+/// One line of statistics under a label.
+fn line(label: &str, s: &QualityStats) {
+    outln!("  {label:34} min {:>7.4}, avg {:.4}, max {:.4}; {} inverted", s.min, s.avg, s.max, s.inverted);
+}
+
+/// A surface run as text.
+pub fn print_report(r: &SurfaceReport, moved: usize) {
+    outln!("scaled Jacobian:");
+    line("input, signed against the surface", &r.input);
+    line("output, signed against the surface", &r.output);
+    line("input, Verdict (3D)", &r.input_verdict);
+    line("output, Verdict (3D)", &r.output_verdict);
+    outln!(
+        "{}, {} untangling, {:.3} s; {} patches, {}, {}, {}, {moved} moved",
+        count(r.iterations, "sweep", "sweeps"),
+        count(r.untangle_sweeps, "sweep", "sweeps"),
+        r.seconds,
+        r.patches,
+        count(r.feature_curves, "feature curve", "feature curves"),
+        count(r.corners, "corner", "corners"),
+        count(r.movable, "movable vertex", "movable vertices"),
+    );
+    print_fidelity(&r.fidelity);
+}
+
+/// The distances as text.
+pub fn print_fidelity(f: &SurfaceFidelity) {
+    outln!(
+        "surface: largest distance from the input surface {:.3e} ({:.3e} of the mean edge), of a feature vertex from its curve {:.3e} ({:.3e})",
+        f.max_distance,
+        f.max_distance_relative(),
+        f.max_feature_distance,
+        f.max_feature_distance_relative()
+    );
+}
+
+/// Adds what viewers colour by to `data`: each face's signed scaled Jacobian, the fixed flags
+/// and the corners (feature corners and fixed vertices).
+pub fn annotate(data: &mut MeshData, optimizer: &SurfaceOptimizer, measure: &SurfaceMeasure, fixed: &[bool]) {
+    data.quality = Some(measure.values.clone());
+    data.fixed = Some(fixed.to_vec());
+    data.corner = Some(optimizer.features().roles().iter().map(|r| *r == VertexRole::Corner).collect());
+}

@@ -23,6 +23,13 @@
 //!   fraction; before the group it prints both meshes' face counts and each run's sweeps and
 //!   max-min stage.
 //!
+//! - `curved/PRESET/sphere` and `curved/PRESET/plane`: a full run with each preset on a
+//!   cube-sphere of about 10k quads (each vertex moved along the sphere by up to a fifth of an
+//!   edge, no face folded; `SurfaceOptimizer`, features and reference built outside the timing, as `Optimizer`'s
+//!   topology is) and on the synthetic planar mesh of the same face count; `curved/sweep/*`
+//!   one guarded sweep of each. Issue 33's target: time per face on the surface within 2x
+//!   of the plane's. `QUADOPT_BENCH_CURVED_QUADS=N` picks another size.
+//!
 //! Before each size's group it prints the peak heap bytes of a default run (topology build
 //! included, the caller's mesh excluded) per vertex. `cargo bench --bench optimize` runs them. A full run on 1M quads takes minutes and criterion
 //! needs at least ten samples, so `optimize/1000000` only runs with QUADOPT_BENCH_1M=1;
@@ -36,6 +43,9 @@ use std::time::Duration;
 
 #[path = "../tests/common/counting_alloc.rs"]
 mod counting_alloc;
+#[path = "../tests/common/surfaces.rs"]
+#[allow(dead_code)]
+mod surfaces;
 use counting_alloc::peak_of;
 
 /// Prints the working set of a default run (topology included) per vertex.
@@ -193,5 +203,75 @@ fn quad_dominant(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(name = optimize; config = Criterion::default(); targets = benches, samples, quad_dominant);
+/// A cube-sphere of `6 n^2` quads, each vertex moved along the sphere by up to a fifth of an
+/// edge of the cube's middle (seeded; no face folds: the edges near the cube's corners are
+/// shorter).
+fn perturbed_sphere(n: u32) -> quadopt::surface::SurfaceMesh {
+    let (mut points, faces) = surfaces::cube_sphere(n);
+    let mut state = 0x5eed_u64;
+    let mut rnd = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let step = 0.15 * std::f64::consts::FRAC_PI_2 / f64::from(n);
+    for p in &mut points {
+        let d = glam::DVec3::new(rnd(), rnd(), rnd());
+        *p = (*p + (d - *p * d.dot(*p)) * step).normalize();
+    }
+    quadopt::surface::SurfaceMesh::new(points, faces, None).unwrap()
+}
+
+fn curved(c: &mut Criterion) {
+    let quads = std::env::var("QUADOPT_BENCH_CURVED_QUADS").ok().and_then(|s| s.trim().parse::<f64>().ok());
+    let n = ((quads.unwrap_or(10_000.0) / 6.0).sqrt().round() as u32).max(2);
+    let sphere = perturbed_sphere(n);
+    let plane = Synthetic::with_quads(sphere.faces().len()).generate();
+    println!(
+        "curved: sphere {} faces, {} vertices; plane {} faces, {} vertices",
+        sphere.faces().len(),
+        sphere.points().len(),
+        plane.faces().len(),
+        plane.points().len()
+    );
+    let surface_optimizer = quadopt::surface::SurfaceOptimizer::new(&sphere, 45.0, &[]).unwrap();
+    let optimizer = Optimizer::new(&plane);
+    let mut group = c.benchmark_group("curved");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
+    let sweep = Options::default().with_max_iterations(1).with_untangle(false).with_max_min(false);
+    let runs = [("sweep".to_string(), sweep)]
+        .into_iter()
+        .chain(Effort::ALL.into_iter().map(|e| (e.to_string(), Options::default().with_effort(e))));
+    for (name, options) in runs {
+        let r = surface_optimizer.run(&mut sphere.clone(), &options, None).unwrap();
+        let p = optimizer.run(&mut plane.clone(), &options, None).unwrap();
+        println!(
+            "curved/{name}: sphere {} sweeps, min {:.3} -> {:.3}, {:.4} s; plane {} sweeps, min {:.3} -> {:.3}, {:.4} s",
+            r.iterations,
+            r.input.min,
+            r.output.min,
+            r.seconds,
+            p.iterations,
+            p.input.min,
+            p.output.min,
+            p.seconds
+        );
+        group.bench_function(BenchmarkId::new(&name, "sphere"), |b| {
+            b.iter_batched_ref(
+                || sphere.clone(),
+                |m| surface_optimizer.run(m, &options, None).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+        group.bench_function(BenchmarkId::new(&name, "plane"), |b| {
+            b.iter_batched_ref(
+                || plane.clone(),
+                |m| optimizer.run(m, &options, None).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(name = optimize; config = Criterion::default(); targets = benches, samples, quad_dominant, curved);
 criterion_main!(optimize);

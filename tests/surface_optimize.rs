@@ -220,3 +220,109 @@ fn a_moved_mesh_or_other_faces_are_refused() {
     assert_eq!(moved.points(), &before[..]);
     assert!(SurfaceOptimizer::new(&mesh, 45.0, &[[0, 0]]).is_err());
 }
+
+/// A torus (radii 2 and 0.6) of `nu` x `nv` quads, and the torus's exact normal at a point.
+fn torus(nu: u32, nv: u32) -> (Vec<DVec3>, Vec<Face>) {
+    grid(nu, nv, true, true, |i, j| {
+        let (t, p) = (2.0 * PI * f64::from(i) / f64::from(nu), 2.0 * PI * f64::from(j) / f64::from(nv));
+        let r = 2.0 + 0.6 * p.cos();
+        DVec3::new(r * t.cos(), r * t.sin(), 0.6 * p.sin())
+    })
+}
+
+fn torus_normal(p: DVec3) -> DVec3 {
+    let centre = DVec3::new(p.x, p.y, 0.0).normalize() * 2.0;
+    (p - centre).normalize()
+}
+
+fn onto_torus(p: DVec3) -> DVec3 {
+    let centre = DVec3::new(p.x, p.y, 0.0).normalize() * 2.0;
+    centre + (p - centre).normalize() * 0.6
+}
+
+/// Random meshes on closed and open surfaces, quads and triangles, random fixed vertices and
+/// presets: every run keeps the guarantees (never worse by the signed measure, no face valid
+/// in the input inverted, on the input surface and curves), fixed vertices and corners keep
+/// their bits, and the run is the same again.
+#[test]
+fn random_surface_meshes_keep_every_guarantee() {
+    let mut rng = Rng(0x5eed);
+    for case in 0..24u64 {
+        let kind = case % 3;
+        let (mut points, mut faces, normal, onto): (_, _, fn(DVec3) -> DVec3, fn(DVec3) -> DVec3) = match kind
+        {
+            0 => {
+                let (p, f) = cube_sphere(3 + (case % 4) as u32);
+                (p, f, |p: DVec3| p.normalize(), |p: DVec3| p.normalize())
+            }
+            1 => {
+                let (p, f) = torus(16 + 2 * (case % 3) as u32, 8);
+                (p, f, torus_normal, onto_torus)
+            }
+            _ => {
+                let (p, f) = tube(12 + (case % 5) as u32, 4);
+                let radial = |p: DVec3| DVec3::new(p.x, p.y, 0.0).normalize();
+                (p, f, radial, |p: DVec3| {
+                    let r = DVec3::new(p.x, p.y, 0.0).normalize();
+                    DVec3::new(r.x, r.y, p.z)
+                })
+            }
+        };
+        // Split some quads into two triangles: a quad-dominant mesh.
+        if case % 2 == 1 {
+            let mut split = Vec::new();
+            for f in faces {
+                if rng.next() > 0.6 {
+                    split.push(quadopt::face::triangle(f[0], f[1], f[2]));
+                    split.push(quadopt::face::triangle(f[0], f[2], f[3]));
+                } else {
+                    split.push(f);
+                }
+            }
+            faces = split;
+        }
+        let n = points.len();
+        let open_rim = |v: usize| kind == 2 && (points_rim(v, n));
+        let amount = 0.08 + 0.25 * (rng.next() + 1.0) / 2.0;
+        perturb(&mut points, case, amount, open_rim, normal, onto);
+        let fixed: Vec<bool> = (0..n).map(|_| rng.next() > 0.85).collect();
+        let effort = Effort::ALL[(case % 3) as usize];
+        let input = points.clone();
+        let make = || SurfaceMesh::new(input.clone(), faces.clone(), Some(fixed.clone())).unwrap();
+        let mut mesh = make();
+        let optimizer = SurfaceOptimizer::new(&mesh, 45.0, &[]).unwrap();
+        let input_values = optimizer.input_values();
+        let report = optimizer.run(&mut mesh, &Options::default().with_effort(effort), None).unwrap();
+        check_guarantees(&report);
+        let output = optimizer.measure(mesh.points()).unwrap();
+        // Measured again from the positions alone (the normals projected anew): the same up
+        // to rounding.
+        let (a, b) = (output.signed, report.output);
+        assert!(
+            a.inverted == b.inverted && (a.min - b.min).abs() < 1e-12 && (a.avg - b.avg).abs() < 1e-12,
+            "case {case}: {a:?} {b:?}"
+        );
+        for (f, (&before, &after)) in input_values.iter().zip(&output.values).enumerate() {
+            assert!(before <= 0.0 || after > 0.0, "case {case}: face {f} inverted ({before} -> {after})");
+        }
+        let roles = optimizer.features().roles();
+        for v in 0..n {
+            if fixed[v] || roles[v] == quadopt::surface::VertexRole::Corner {
+                assert_eq!(
+                    mesh.points()[v].to_array().map(f64::to_bits),
+                    input[v].to_array().map(f64::to_bits)
+                );
+            }
+        }
+        let mut again = make();
+        optimizer.run(&mut again, &Options::default().with_effort(effort), None).unwrap();
+        assert_eq!(again.points(), mesh.points(), "case {case}");
+    }
+}
+
+/// The rim vertices of [`tube`] with `n` vertices: its first and last rings (of `n / 5` each
+/// for the 4-row tubes of the random test).
+fn points_rim(v: usize, n: usize) -> bool {
+    let ring = n / 5;
+    v < ring || v >= n - ring
+}

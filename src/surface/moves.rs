@@ -93,14 +93,24 @@ fn free_move(
             if !rule.guard {
                 return Some(place(step));
             }
+            // A target at or above the floor is acceptable whatever the current star (as in the
+            // plane), so the current star is scored only when needed.
+            let first = place(step);
+            let first_score = surface.star_score(state, v, Some(&first));
+            if first_score.inverted == 0 && first_score.min >= rule.floor {
+                return moved(first, &here);
+            }
             let current = surface.star_score(state, v, None);
+            if guard_accepts(&first_score, &current, rule.floor) {
+                return moved(first, &here);
+            }
             let mut s = step;
-            for _ in 0..=MAX_HALVINGS {
+            for _ in 0..MAX_HALVINGS {
+                s *= 0.5;
                 let candidate = place(s);
                 if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
                     return moved(candidate, &here);
                 }
-                s *= 0.5;
             }
             if current.min >= PERFECT {
                 return None;
@@ -128,14 +138,22 @@ fn curve_or_still_move(surface: &Surface, state: &State, v: usize, rule: &StepRu
                 return Some(surface.place_on_curve(v, slot, s0 + step));
             }
             let here = surface.current(state, v);
+            let first = surface.place_on_curve(v, slot, s0 + step);
+            let first_score = surface.star_score(state, v, Some(&first));
+            if first_score.inverted == 0 && first_score.min >= rule.floor {
+                return moved(first, &here);
+            }
             let current = surface.star_score(state, v, None);
+            if guard_accepts(&first_score, &current, rule.floor) {
+                return moved(first, &here);
+            }
             let mut d = step;
-            for _ in 0..=MAX_HALVINGS {
+            for _ in 0..MAX_HALVINGS {
+                d *= 0.5;
                 let candidate = surface.place_on_curve(v, slot, s0 + d);
                 if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
                     return moved(candidate, &here);
                 }
-                d *= 0.5;
             }
             None
         }

@@ -240,6 +240,9 @@ fn onto_torus(p: DVec3) -> DVec3 {
     centre + (p - centre).normalize() * 0.6
 }
 
+/// A map of 3D points (a surface's normal, or the projection onto it).
+type Map = fn(DVec3) -> DVec3;
+
 /// Random meshes on closed and open surfaces, quads and triangles, random fixed vertices and
 /// presets: every run keeps the guarantees (never worse by the signed measure, no face valid
 /// in the input inverted, on the input surface and curves), fixed vertices and corners keep

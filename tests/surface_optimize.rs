@@ -252,8 +252,7 @@ fn random_surface_meshes_keep_every_guarantee() {
     let mut rng = Rng(0x5eed);
     for case in 0..24u64 {
         let kind = case % 3;
-        let (mut points, mut faces, normal, onto): (_, _, fn(DVec3) -> DVec3, fn(DVec3) -> DVec3) = match kind
-        {
+        let (mut points, mut faces, normal, onto): (_, _, Map, Map) = match kind {
             0 => {
                 let (p, f) = cube_sphere(3 + (case % 4) as u32);
                 (p, f, |p: DVec3| p.normalize(), |p: DVec3| p.normalize())

@@ -4,6 +4,9 @@
 Usage:  pip install -r tools/requirements.txt      # gmsh==4.15.2 (pinned: the mesher decides the meshes)
         python3 tools/make_samples.py               # writes data/*.vtk, data/README.md, prints the table
         python3 tools/make_samples.py --check       # regenerates in memory, exit 1 if data/ differs
+        python3 tools/make_samples.py --surfaces DIR   # only the surface samples (in data/ too; and their
+                                                       # unperturbed *_clean meshes), into DIR; see
+                                                       # "Surface samples" below
 
 Each mesh imitates one of the models of Akram, Si and Chen's Table 1 (plates with circular and
 square holes, irregular patches with notches, a maze-like wheel): the domain is built with gmsh's
@@ -671,15 +674,449 @@ over all faces.
 """
 
 
+# --------------------------------------------------------------------------------------------
+# Surface samples (quad meshes on curved 3D surfaces; --surfaces OUTDIR)
+# --------------------------------------------------------------------------------------------
+#
+# Three CAD models (gmsh OpenCASCADE) whose surfaces are meshed with the same recombination as
+# the plates (mesh_surface: Mesh.Algorithm = 8, then 6, then 6 at twice the size with
+# subdivision into quads; the sphere skips 8, with which gmsh 4.15.2 crashes on it;
+# single-threaded, fixed seed; the quad-dominant bracket: one run of 8 with the simple
+# recombination, keeping its triangles), then perturbed ALONG the surface
+# (perturb_surface): only vertices classified on a CAD face move (those on CAD curves and
+# points -- boundary loops, sharp edges, seams, feature corners -- never do), each by a random
+# vector in the tangent plane of its face followed by gmsh.model.getClosestPoint onto that face,
+# so every vertex stays on the exact CAD surface. As in perturb: a jitter whose moves are halved
+# while they would put a face of the star below the lowest defect target + 0.05 (but at least
+# 0.05, so that only the defects fold faces: one per negative target), then a few
+# defects, each pushed by bisection along one tangent direction until the worst face of its star
+# reaches the target (negative targets fold faces). Quality: the signed scaled Jacobian against
+# the surface normal, per face the minimum over its corners of n . (e_next x e_prev) /
+# (|e_next| |e_prev|), n the CAD face's unit normal at the point closest to the unperturbed
+# face's centroid (oriented like the mesh); a triangle: 2/sqrt(3) n . cross / the largest
+# product of two edge lengths. Faces are oriented consistently, outward (closed surfaces: positive
+# volume; the open tube: away from its axis). Written with each sample: NAME_clean.vtk, the mesh
+# before the perturbation (for tools/bench_surfaces.py). The functions mesh_surface and
+# perturb_surface work in the caller's gmsh session, so that tools/bench_surfaces.py can run
+# gmsh's own smoothers on the very same mesh with gmsh's parametrization.
+
+
+def sphere(occ):
+    """The unit sphere (one CAD face with a seam curve and two pole points)."""
+    occ.addSphere(0, 0, 0, 1.0)
+
+
+def bracket(occ):
+    """An L-shaped bracket: a 3 x 2 x 2 box minus a box that leaves a 0.6 thick foot and leg; the
+    inner bend (radius 0.4) and the outer bend and the foot's two outer vertical edges (0.5)
+    filleted, a hole (radius 0.35) through the foot; all other edges sharp (90 degrees)."""
+    body = occ.cut([(3, occ.addBox(0, 0, 0, 3.0, 2.0, 2.0))], [(3, occ.addBox(0.6, -1, 0.6, 3, 4, 2))])[0]
+
+    def along_y(x, z):
+        out = []
+        for _, c in occ.getEntities(1):
+            x0, y0, z0, x1, y1, z1 = occ.getBoundingBox(1, c)
+            if abs(x0 - x) < 1e-3 and abs(x1 - x) < 1e-3 and abs(z0 - z) < 1e-3 and abs(z1 - z) < 1e-3:
+                out.append(c)
+        return out
+
+    def along_z(x, y):
+        out = []
+        for _, c in occ.getEntities(1):
+            x0, y0, z0, x1, y1, z1 = occ.getBoundingBox(1, c)
+            if abs(x0 - x) < 1e-3 and abs(x1 - x) < 1e-3 and abs(y0 - y) < 1e-3 and abs(y1 - y) < 1e-3:
+                out.append(c)
+        return out
+
+    inner, outer = along_y(0.6, 0.6), along_y(0.0, 0.0)
+    body = occ.fillet([t for _, t in body], inner, [0.4])
+    body = occ.fillet([t for _, t in body], outer + along_z(3.0, 0.0) + along_z(3.0, 2.0), [0.5])
+    occ.cut(body, [(3, occ.addCylinder(1.9, 1.0, -1, 0, 0, 3, 0.35))])
+
+
+def tube_with_holes(occ):
+    """The lateral face of a cylinder (radius 1, height 3, open at both ends) with three holes
+    through its wall: a bore along y (radius 0.35) through both sides at z = 1, and a hole
+    (radius 0.3) through the x < 0 side only at z = 2.1; the seam (x = 1) stays whole."""
+    cyl = occ.addCylinder(0, 0, 0, 0, 0, 3.0, 1.0)
+    tools = [(3, occ.addCylinder(0, -2, 1.0, 0, 4, 0, 0.35)), (3, occ.addCylinder(0, 0, 2.1, -2, 0, 0, 0.3))]
+    body = occ.cut([(3, cyl)], tools)[0]
+    lateral = []
+    for _, f in occ.getEntities(2):
+        x0, y0, z0, x1, y1, z1 = occ.getBoundingBox(2, f)
+        if z1 - z0 > 2.9 and x1 - x0 > 1.9:
+            lateral.append(f)
+    occ.remove(body)
+    occ.remove([(2, f) for _, f in occ.getEntities(2) if f not in lateral], recursive=True)
+
+
+def cross3(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def sub3(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def unit3(a):
+    d = math.sqrt(dot3(a, a))
+    return (a[0] / d, a[1] / d, a[2] / d)
+
+
+def face_vector(p, f):
+    """The area vector of a face (half the sum of the cross products of consecutive corners)."""
+    s = [0.0, 0.0, 0.0]
+    k = len(f)
+    for i in range(k):
+        c = cross3(p[f[i]], p[f[(i + 1) % k]])
+        s[0] += c[0] / 2
+        s[1] += c[1] / 2
+        s[2] += c[2] / 2
+    return s
+
+
+def surface_scaled_jacobian(p, f, n):
+    """Signed scaled Jacobian of face f against the unit normal n (see above; degenerate: 0)."""
+    k = len(f)
+    if k == 3:
+        a, b, c = (p[v] for v in f)
+        l0, l1, l2 = math.dist(a, b), math.dist(b, c), math.dist(c, a)
+        big = max(l0 * l2, l0 * l1, l1 * l2)
+        if big == 0:
+            return 0.0
+        cross = dot3(n, cross3(sub3(b, a), sub3(c, a)))
+        return max(-1.0, min(1.0, cross * 2 / math.sqrt(3) / big))
+    m = math.inf
+    for i in range(4):
+        x = p[f[i]]
+        e1, e2 = sub3(p[f[(i + 1) % 4]], x), sub3(p[f[(i + 3) % 4]], x)
+        l1, l2 = math.sqrt(dot3(e1, e1)), math.sqrt(dot3(e2, e2))
+        if l1 == 0 or l2 == 0:
+            return 0.0
+        m = min(m, dot3(n, cross3(e1, e2)) / (l1 * l2))
+    return m
+
+
+def surface_stats(p, faces, normals):
+    v = [surface_scaled_jacobian(p, f, n) for f, n in zip(faces, normals)]
+    return min(v), sum(v) / len(v), max(v), sum(1 for x in v if x <= 0)
+
+
+def orient_faces(points, faces):
+    """Reverses faces in place so that neighbours agree (each edge used in both directions) and
+    each connected piece faces outward: the sum over its faces of area vector . (centroid -
+    the piece's vertex mean) positive (3 x the volume for a closed piece)."""
+    edge_faces = {}
+    for fi, f in enumerate(faces):
+        for i in range(len(f)):
+            a, b = f[i], f[(i + 1) % len(f)]
+            edge_faces.setdefault((min(a, b), max(a, b)), []).append(fi)
+    seen = [False] * len(faces)
+    for start in range(len(faces)):
+        if seen[start]:
+            continue
+        seen[start], piece, queue = True, [start], [start]
+        while queue:
+            fi = queue.pop()
+            f = faces[fi]
+            for i in range(len(f)):
+                a, b = f[i], f[(i + 1) % len(f)]
+                for g in edge_faces[(min(a, b), max(a, b))]:
+                    if seen[g]:
+                        continue
+                    h = faces[g]
+                    # Consistent when g runs b -> a.
+                    if any(h[j] == a and h[(j + 1) % len(h)] == b for j in range(len(h))):
+                        h.reverse()
+                    seen[g] = True
+                    piece.append(g)
+                    queue.append(g)
+        vs = sorted({v for fi in piece for v in faces[fi]})
+        c0 = [sum(points[v][k] for v in vs) / len(vs) for k in range(3)]
+        flux = 0.0
+        for fi in piece:
+            f = faces[fi]
+            c = [sum(points[v][k] for v in f) / len(f) for k in range(3)]
+            flux += dot3(face_vector(points, f), sub3(c, c0))
+        if flux < 0:
+            for fi in piece:
+                faces[fi].reverse()
+
+
+def surface_attempt(gmsh, build, size, algorithm, subdivide=False, recombination=1, mixed=False):
+    """One meshing of the model build(occ) in the current gmsh session (cleared first): True
+    when it gives what was asked (all quads; with `mixed`, quads and at least one triangle)."""
+    gmsh.clear()
+    gmsh.model.add("surface")
+    occ = gmsh.model.occ
+    build(occ)
+    occ.synchronize()
+    for k, v in dict(MeshSizeMin=size, MeshSizeMax=size, MeshSizeFromCurvature=0, MeshSizeExtendFromBoundary=1,
+                     Algorithm=algorithm, RecombineAll=1, RecombinationAlgorithm=recombination,
+                     SubdivisionAlgorithm=1 if subdivide else 0, Smoothing=1, RandomSeed=1).items():
+        gmsh.option.setNumber("Mesh." + k, v)
+    gmsh.model.mesh.generate(2)
+    types = set()
+    for _, s in gmsh.model.getEntities(2):
+        types.update(int(t) for t in gmsh.model.mesh.getElements(2, s)[0])
+    return types == {2, 3} if mixed else types == {3}
+
+
+def mesh_surface(gmsh, sample):
+    """Meshes a surface sample in the current gmsh session (initialized by the caller, which
+    keeps the mesh and the model). Returns a dict: points (lists [x, y, z], the nodes used by
+    2D elements in tag order), faces (vertex lists, oriented, see orient_faces), tags (the gmsh
+    node tag of each vertex), where (per vertex: the CAD face it is classified on, or None on a
+    CAD curve or point), face_surface (the CAD face of each face), normals (per face, see the
+    section's notes)."""
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    m = sample.get("mixed")
+    if m:
+        ok = surface_attempt(gmsh, sample["build"], sample["size"], m["algorithm"], recombination=m["recombination"],
+                             mixed=True)
+        assert ok, "not a quad-dominant mesh"
+    elif not any(surface_attempt(gmsh, sample["build"], sample["size"], a) for a in sample.get("algorithms", (8, 6))):
+        assert surface_attempt(gmsh, sample["build"], 2 * sample["size"], 6, subdivide=True)
+    coord, where = {}, {}
+    for dim, ent in gmsh.model.getEntities():
+        if dim > 2:
+            continue
+        tags, xyz, _ = gmsh.model.mesh.getNodes(dim, ent)
+        for i, t in enumerate(tags):
+            coord[int(t)] = [float(xyz[3 * i]), float(xyz[3 * i + 1]), float(xyz[3 * i + 2])]
+            where[int(t)] = ent if dim == 2 else None
+    raw, face_surface = [], []
+    for _, s in gmsh.model.getEntities(2):
+        types, _, nodes = gmsh.model.mesh.getElements(2, s)
+        for ty, nd in zip(types, nodes):
+            k = 4 if ty == 3 else 3
+            nd = [int(x) for x in nd]
+            for i in range(len(nd) // k):
+                raw.append(nd[k * i : k * i + k])
+                face_surface.append(s)
+    used = sorted({v for f in raw for v in f})
+    index = {t: i for i, t in enumerate(used)}
+    points = [coord[t] for t in used]
+    faces = [[index[v] for v in f] for f in raw]
+    orient_faces(points, faces)
+    normals = []
+    for f, s in zip(faces, face_surface):
+        c = [sum(points[v][k] for v in f) / len(f) for k in range(3)]
+        _, uv = gmsh.model.getClosestPoint(2, s, c)
+        n = unit3([float(x) for x in gmsh.model.getNormal(s, list(uv))])
+        normals.append(n if dot3(n, face_vector(points, f)) > 0 else (-n[0], -n[1], -n[2]))
+    return dict(points=points, faces=faces, tags=used, where=[where[t] for t in used], face_surface=face_surface,
+                normals=normals)
+
+
+def perturb_surface(gmsh, mesh, seed, jitter, defects):
+    """Perturbs a copy of mesh["points"] along the CAD surface (see the section's notes) in the
+    session that made `mesh`; returns (points, params): params maps each moved vertex to its
+    parametric coordinates (u, v) on its CAD face."""
+    rng = random.Random(seed)
+    points, faces, normals, where = mesh["points"], mesh["faces"], mesh["normals"], mesh["where"]
+    n = len(points)
+    vq, edges, _ = topology(n, faces)
+    nbrs = [set() for _ in range(n)]
+    for a, b in edges:
+        nbrs[a].add(b)
+        nbrs[b].add(a)
+    h = [min(math.dist(points[v], points[u]) for u in nbrs[v]) for v in range(n)]
+    p = [list(x) for x in points]
+    params = {}
+    frames = {}
+
+    def frame(v):
+        """Two unit tangents of v's CAD face at v's unperturbed position."""
+        if v not in frames:
+            _, uv = gmsh.model.getClosestPoint(2, where[v], points[v])
+            nv = unit3([float(x) for x in gmsh.model.getNormal(where[v], list(uv))])
+            axis = min(range(3), key=lambda k: abs(nv[k]))
+            e = [0.0, 0.0, 0.0]
+            e[axis] = 1.0
+            t1 = unit3(cross3(nv, e))
+            frames[v] = (t1, cross3(nv, t1))
+        return frames[v]
+
+    def place(v, x):
+        """Puts v at the point of its CAD face closest to x."""
+        xyz, uv = gmsh.model.getClosestPoint(2, where[v], x)
+        p[v][0], p[v][1], p[v][2] = float(xyz[0]), float(xyz[1]), float(xyz[2])
+        params[v] = (float(uv[0]), float(uv[1]))
+
+    def star_min(v):
+        return min(surface_scaled_jacobian(p, faces[q], normals[q]) for q in vq[v])
+
+    def restore(v, x0, uv0):
+        p[v][0], p[v][1], p[v][2] = x0
+        if uv0 is None:
+            params.pop(v, None)
+        else:
+            params[v] = uv0
+
+    floor = max(min(defects) + 0.05, 0.05)
+    for v in range(n):
+        rad, ang = math.sqrt(rng.random()), rng.uniform(0, 2 * math.pi)
+        if where[v] is None:
+            continue
+        t1, t2 = frame(v)
+        a, b = jitter * h[v] * rad * math.cos(ang), jitter * h[v] * rad * math.sin(ang)
+        x0, uv0 = tuple(p[v]), params.get(v)
+        for _ in range(5):
+            place(v, [x0[k] + a * t1[k] + b * t2[k] for k in range(3)])
+            if star_min(v) >= floor:
+                break
+            a, b = a / 2, b / 2
+        else:
+            restore(v, x0, uv0)
+
+    touched = set()
+    order = [v for v in range(n) if where[v] is not None]
+    rng.shuffle(order)
+    it = iter(order)
+    for target in defects:
+        for v in it:
+            star = set(vq[v])
+            if star & touched:
+                continue
+            if star_min(v) <= target + 0.05:
+                continue
+            ang = rng.uniform(0, 2 * math.pi)
+            t1, t2 = frame(v)
+            d = [h[v] * (math.cos(ang) * t1[k] + math.sin(ang) * t2[k]) for k in range(3)]
+            x0, uv0 = tuple(p[v]), params.get(v)
+
+            def at(t):
+                place(v, [x0[k] + t * d[k] for k in range(3)])
+                return star_min(v)
+
+            t_hi = 0.9
+            if at(t_hi) > target:
+                restore(v, x0, uv0)
+                continue
+            lo, hi = 0.0, t_hi
+            for _ in range(60):
+                mid = (lo + hi) / 2
+                if at(mid) > target:
+                    lo = mid
+                else:
+                    hi = mid
+            at(hi)
+            for q in star:
+                for u in faces[q]:
+                    touched.update(vq[u])
+            break
+    return p, params
+
+
+SURFACE_SAMPLES = [
+    dict(
+        name="sphere_surface",
+        what="unit sphere, closed, all quads",
+        build=sphere, size=0.15, algorithms=(6,), seed=101, jitter=0.35, defects=[-0.3, -0.05, 0.25],
+    ),
+    dict(
+        name="bracket_surface",
+        what="L bracket: three filleted edges, sharp edges and corners, a hole through the foot; closed, all quads",
+        build=bracket, size=0.23, seed=102, jitter=0.35, defects=[-0.4, -0.1, 0.15],
+    ),
+    dict(
+        name="cylinder_holes_surface",
+        what="open tube (lateral face of a cylinder) with three holes through its wall, all quads",
+        build=tube_with_holes, size=0.2, seed=103, jitter=0.35, defects=[-0.25, 0.05, 0.2],
+    ),
+    dict(
+        name="bracket_surface_mixed",
+        what="bracket_surface's bracket, quads and triangles (simple recombination)",
+        build=bracket, size=0.17, seed=104, jitter=0.35, defects=[-0.3, 0.1],
+        mixed=dict(algorithm=8, recombination=0),
+    ),
+]
+
+
+def make_surface(sample):
+    """Generates one surface sample in a gmsh session of its own: (clean points, perturbed
+    points, faces, normals)."""
+    import gmsh
+
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    try:
+        mesh = mesh_surface(gmsh, sample)
+        p, _ = perturb_surface(gmsh, mesh, sample["seed"], sample["jitter"], sample["defects"])
+    finally:
+        gmsh.finalize()
+    return mesh["points"], p, mesh["faces"], mesh["normals"]
+
+
+def vtk_text_3d(name, points, faces):
+    out = ["# vtk DataFile Version 3.0", f"quadopt sample {name} (tools/make_samples.py)", "ASCII",
+           "DATASET UNSTRUCTURED_GRID", f"POINTS {len(points)} double"]
+    out += [f"{x!r} {y!r} {z!r}" for x, y, z in points]
+    out.append(f"CELLS {len(faces)} {sum(len(f) + 1 for f in faces)}")
+    out += [f"{len(f)} " + " ".join(str(v) for v in f) for f in faces]
+    out.append(f"CELL_TYPES {len(faces)}")
+    out += ["9" if len(f) == 4 else "5" for f in faces]
+    return "\n".join(out) + "\n"
+
+
+def write_surfaces(outdir, only=None):
+    """Writes the surface samples (NAME.vtk) and their unperturbed meshes (NAME_clean.vtk) to
+    outdir, printing their quality."""
+    os.makedirs(outdir, exist_ok=True)
+    print(f"{'name':24} {'#V':>5} {'#F':>5} {'min':>9} {'avg':>9} {'max':>9} {'inverted':>8}  (clean min, avg)")
+    for s in SURFACE_SAMPLES:
+        if only and s["name"] != only:
+            continue
+        clean, p, faces, normals = make_surface(s)
+        lo, avg, hi, inv = surface_stats(p, faces, normals)
+        clo, cavg, _, _ = surface_stats(clean, faces, normals)
+        tri = sum(1 for f in faces if len(f) == 3)
+        line = f"{s['name']:24} {len(p):5} {len(faces):5} {lo:9.4f} {avg:9.4f} {hi:9.4f} {inv:8}  ({clo:.4f}, {cavg:.4f})"
+        print(line + (f"  ({tri} triangles)" if tri else ""))
+        with open(os.path.join(outdir, s["name"] + ".vtk"), "w") as f:
+            f.write(vtk_text_3d(s["name"], p, faces))
+        with open(os.path.join(outdir, s["name"] + "_clean.vtk"), "w") as f:
+            f.write(vtk_text_3d(s["name"] + "_clean", clean, faces))
+
+
+README_SURFACES = """
+## Surface samples
+
+Quad meshes on curved surfaces in 3D (cell types 9 and 5; faces oriented consistently, outward):
+three CAD models of gmsh's OpenCASCADE kernel -- a unit sphere; an L bracket with filleted and
+sharp edges, sharp corners and a hole; an open tube with three holes through its wall -- and the
+bracket quad-dominant, meshed with recombination and then perturbed along the surface: only
+vertices inside a CAD face move, each in its tangent plane and back onto the exact CAD surface,
+until one face per negative defect target folds over. Quality: the scaled Jacobian signed
+against the CAD surface's normal at the point closest to each face's unperturbed centroid
+(`quadopt quality` signs it against the faceted input surface's normals instead, and its numbers
+differ slightly); inverted = folded faces. `python3 tools/make_samples.py --surfaces DIR` writes
+these with their unperturbed meshes (`NAME_clean.vtk`, for tools/bench_surfaces.py).
+
+| file | what | #V | #F | #tri | input min | input avg | inverted |
+| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |
+"""
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--check", action="store_true", help="compare with the files in data/ instead of writing")
     ap.add_argument("--only", help="generate only this sample")
+    ap.add_argument("--surfaces", metavar="OUTDIR",
+                    help="write only the surface samples (and their unperturbed *_clean meshes) to OUTDIR")
     args = ap.parse_args()
     import gmsh
 
     if gmsh.__version__ != GMSH_VERSION:
         print(f"warning: gmsh {gmsh.__version__} found, the samples were made with {GMSH_VERSION}", file=sys.stderr)
+    if args.surfaces:
+        write_surfaces(args.surfaces, args.only)
+        return
     os.makedirs(DATA, exist_ok=True)
     print(f"{'name':24} {'#V':>5} {'#F':>5} {'min':>9} {'avg':>9} {'max':>9} {'inverted':>8}")
     differ = 0
@@ -709,6 +1146,17 @@ def main():
         counts = f"{len(p)} | {len(q)} | {tri}" if s.get("mixed") else f"{len(p)} | {len(q)}"
         readme += f"| {s['name']}.vtk | {s['what']} | {counts} | {lo:.4f} | {avg:.4f} | {inv} |\n"
         emit(os.path.join(DATA, s["name"] + ".vtk"), vtk_text(s["name"], p, q, fixed))
+    readme += README_SURFACES
+    for s in SURFACE_SAMPLES:
+        if args.only and s["name"] != args.only:
+            continue
+        _, p, faces, normals = make_surface(s)
+        lo, avg, hi, inv = surface_stats(p, faces, normals)
+        tri = sum(1 for f in faces if len(f) == 3)
+        line = f"{s['name']:24} {len(p):5} {len(faces):5} {lo:9.4f} {avg:9.4f} {hi:9.4f} {inv:8}"
+        print(line + (f"  ({tri} triangles)" if tri else ""))
+        readme += f"| {s['name']}.vtk | {s['what']} | {len(p)} | {len(faces)} | {tri} | {lo:.4f} | {avg:.4f} | {inv} |\n"
+        emit(os.path.join(DATA, s["name"] + ".vtk"), vtk_text_3d(s["name"], p, faces))
     if not args.only:
         emit(os.path.join(DATA, "README.md"), readme)
     if differ:

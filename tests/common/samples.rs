@@ -7,8 +7,21 @@ use quadopt::{DVec2, Mesh};
 use quadopt::{Topology, VertexKind};
 use std::path::{Path, PathBuf};
 
-/// The sample files, sorted by name.
+/// The planar sample files, sorted by name.
 pub fn sample_files() -> Vec<PathBuf> {
+    all_sample_files().into_iter().filter(|p| !is_surface_sample(p)).collect()
+}
+
+/// The samples on curved surfaces (`*_surface*.vtk`), sorted by name.
+pub fn surface_sample_files() -> Vec<PathBuf> {
+    all_sample_files().into_iter().filter(|p| is_surface_sample(p)).collect()
+}
+
+fn is_surface_sample(p: &Path) -> bool {
+    p.file_stem().is_some_and(|s| s.to_string_lossy().contains("_surface"))
+}
+
+fn all_sample_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))

@@ -16,14 +16,6 @@ pub struct Loaded {
     pub planar: PlanarMesh,
 }
 
-/// Reads `path`; the nodes of the physical groups named in `fix` join the fixed flags.
-pub fn load(path: &Path, fix: &[String]) -> Result<Loaded, Fail> {
-    let mut data = openmesh_io::read_mesh(path)?;
-    fix_physical(&mut data, fix).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
-    let planar = PlanarMesh::new(&data).map_err(|e| Fail::Other(format!("{}: {e}", path.display())))?;
-    Ok(Loaded { data, planar })
-}
-
 /// A mesh file as the commands read it: planar (optimized in its plane, as ever) or on a
 /// curved surface (optimized on that surface).
 pub enum Input {
@@ -37,8 +29,8 @@ pub struct Curved {
     pub surface: SurfaceMesh,
 }
 
-/// Reads `path` as [`load`] does; a mesh that is not planar is read as a surface mesh in 3D
-/// instead; every other error is [`load`]'s.
+/// Reads `path` (the nodes of the physical groups named in `fix` join the fixed flags) and
+/// maps it to 2D; a mesh that is not planar is read as a surface mesh in 3D instead.
 pub fn load_input(path: &Path, fix: &[String]) -> Result<Input, Fail> {
     let mut data = openmesh_io::read_mesh(path)?;
     let failed = |e: &dyn std::fmt::Display| Fail::Other(format!("{}: {e}", path.display()));

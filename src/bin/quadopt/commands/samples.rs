@@ -2,12 +2,13 @@
 //! the paper's Table 1.
 
 use crate::fail::Fail;
-use crate::mesh_files::{Loaded, load};
+use crate::mesh_files::{Curved, Input, Loaded, load_input};
 use crate::plural::count;
-use crate::progress::run;
+use crate::progress::{run, run_surface};
 use quadopt::io::Format;
 use quadopt::quality::ByFaceKind;
-use quadopt::{Optimizer, Options, QualityStats};
+use quadopt::surface::{SurfaceOptimizer, SurfaceReport};
+use quadopt::{Optimizer, Options, QualityStats, Report};
 use std::path::{Path, PathBuf};
 
 /// The bundled sample meshes: `data/` of the crate, else `./data`.
@@ -60,14 +61,46 @@ pub fn run_data_dir() -> Result<(), Fail> {
         "time (s)"
     );
     let mut failed = 0;
+    let mut surfaces = Vec::new();
     for path in &files {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let result = load(path, &[]).and_then(|Loaded { data, mut planar }| {
-            let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
-            Ok((data, report))
+        let result = load_input(path, &[]).and_then(|input| match input {
+            Input::Planar(Loaded { data, mut planar }) => {
+                let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
+                Ok(Run::Planar(data, report))
+            }
+            Input::Curved(Curved { data, mut surface }) => {
+                let optimizer = SurfaceOptimizer::new(&surface, options.feature_angle_deg, &[])
+                    .map_err(|e| Fail::Other(e.to_string()))?;
+                Ok(Run::Surface(data, run_surface(&optimizer, &mut surface, &options, true)?))
+            }
         });
         match result {
-            Ok((data, r)) => {
+            // On a curved surface: the signed measure, and the largest distance from the input
+            // surface relative to the mean edge on a line of its own.
+            Ok(Run::Surface(data, r)) => {
+                let (i, o) = (&r.input, &r.output);
+                outln!(
+                    "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
+                    data.points.len(),
+                    data.quads.len(),
+                    i.min,
+                    i.avg,
+                    i.max,
+                    o.min,
+                    o.avg,
+                    o.max,
+                    i.inverted,
+                    o.inverted,
+                    r.iterations,
+                    r.seconds
+                );
+                if r.input_by_kind.triangle_count > 0 {
+                    print_kinds(&r.input_by_kind, &r.output_by_kind);
+                }
+                surfaces.push((name, r.fidelity.max_distance_relative(), r.output_verdict));
+            }
+            Ok(Run::Planar(data, r)) => {
                 let (i, o) = (&r.input, &r.output);
                 outln!(
                     "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
@@ -93,6 +126,14 @@ pub fn run_data_dir() -> Result<(), Fail> {
                 failed += 1;
                 outln!("{name:28} error: {m}");
             }
+        }
+    }
+    if !surfaces.is_empty() {
+        outln!(
+            "on curved surfaces: min/avg/max signed against the surface's normal; the output's Verdict (3D) minimum and largest distance from the input surface (relative to the mean edge):"
+        );
+        for (name, distance, verdict) in &surfaces {
+            outln!("  {name:26} Verdict min {:.3}, distance {distance:.1e}", verdict.min);
         }
     }
     if failed > 0 {
@@ -130,3 +171,9 @@ fn print_kinds(input: &ByFaceKind, output: &ByFaceKind) {
 
 /// One face kind's statistics out of a [`ByFaceKind`].
 type KindStats = fn(&ByFaceKind) -> Option<QualityStats>;
+
+/// A sample's run: planar or on a curved surface.
+enum Run {
+    Planar(quadopt::io::MeshData, Report),
+    Surface(quadopt::io::MeshData, SurfaceReport),
+}

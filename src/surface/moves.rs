@@ -29,6 +29,10 @@ pub struct StepRule {
     pub guard: bool,
     /// The guard's floor: a move may lower its star's minimum to at most min(current, floor).
     pub floor: f64,
+    /// With the embedded polygon: also try the Laplacian's target and take, per vertex, the
+    /// candidate that leaves the star better (docs/surfaces.md: the embedded polygon alone leaves
+    /// the average lower on surfaces with fillets).
+    pub with_laplacian: bool,
 }
 
 /// Whether `candidate` passes the guard from `current`: no more inverted faces and a minimum
@@ -67,7 +71,23 @@ pub fn smoothing_move(
             Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
             Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
         };
-        return (free_move(surface, state, v, rule, star, (chart, here), target), ep.energy);
+        let first = free_move(surface, state, v, rule, star, (chart, here), target);
+        if !rule.with_laplacian {
+            return (first, ep.energy);
+        }
+        let lap = laplacian::uniform_target(&star.points, &star.ring);
+        let second = free_move(surface, state, v, rule, star, (chart, here), lap);
+        let take_second = match (&first, &second) {
+            (_, None) => false,
+            (None, Some(_)) => true,
+            (Some(a), Some(b)) => {
+                let (a, b) = (surface.star_score(state, v, Some(a)), surface.star_score(state, v, Some(b)));
+                // Both above the floor: the better average; else the better star.
+                let above = |s: &Score| s.inverted == 0 && s.min >= rule.floor;
+                if above(&a) && above(&b) { b.sum > a.sum } else { b.better_than(&a) }
+            }
+        };
+        return (if take_second { second } else { first }, ep.energy);
     }
     (curve_or_still_move(surface, state, v, rule), 0.0)
 }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::face::Face;
 use crate::quality::{ByFaceKind, QualityStats};
 use crate::smooth::effort::Effort;
-use crate::smooth::options::{BoundaryMode, Options, StopRule};
+use crate::smooth::options::{BoundaryMode, Method, Options, StopRule};
 use crate::smooth::ranking::{MIN_TIE, MIN_TIE_BEFORE_MAX_MIN, improves_with_tie};
 use crate::smooth::report::Progress;
 use crate::smooth::stopping::{self, Stopper};
@@ -395,7 +395,14 @@ impl SurfaceOptimizer {
         // 2. Guarded sweeps, stopped by the planar run's rules ([`Stopper`]; the energy is the
         // embedded polygon's, summed over the vertices' charts).
         let floor = options.guard_floor.max(input.min);
-        let rule = StepRule { method: options.method, lambda: options.lambda, guard: options.guard, floor };
+        let with_laplacian = options.method == Method::EmbeddedPolygon && options.effort != Effort::Fast;
+        let rule = StepRule {
+            method: options.method,
+            lambda: options.lambda,
+            guard: options.guard,
+            floor,
+            with_laplacian,
+        };
         let curves_move = options.boundary != BoundaryMode::Fixed;
         let movable = self.motion.iter().filter(|m| **m != Motion::Still).count();
         let mut stopper = Stopper::new(options, movable);

@@ -211,8 +211,10 @@ fn optimize_surface(
 ) -> Result<(), Fail> {
     let Curved { mut data, mut surface } = curved;
     let marked = marked_edges(&data, &surface, opts.feature_edges.as_deref(), &opts.feature_physical)?;
+    let setup = std::time::Instant::now();
     let optimizer = SurfaceOptimizer::new(&surface, options.feature_angle_deg, &marked)
         .map_err(|e| Fail::Other(format!("{}: {e}", input.display())))?;
+    let setup_seconds = setup.elapsed().as_secs_f64();
     let before = out.picture.map(|_| surface.clone());
     let report = run_surface(&optimizer, &mut surface, options, !out.as_json)?;
     let measure = optimizer.measure(surface.points())?;
@@ -246,6 +248,8 @@ fn optimize_surface(
     if out.as_json {
         let mut v = surface_report::report_json(&report);
         v["moved"] = json!(moved);
+        // Building the features, patches and reference trees, before the run ("seconds").
+        v["setup_seconds"] = json!(setup_seconds);
         v["method"] = json!(options.method.name());
         v["boundary"] = json!(options.boundary.name());
         v["vertices"] = json!(data.points.len());

@@ -62,7 +62,7 @@ pub(crate) mod topology;
 
 pub use error::{Error, Result};
 pub use features::Features;
-pub use glam::DVec2;
+pub use glam::{DVec2, DVec3};
 pub use mesh::Mesh;
 
 /// The mesh type's name before it took triangles ([`Mesh`]); kept so code written against it

@@ -1,6 +1,8 @@
 /* Pure C99 test of include/quadopt.h: defaults, hand-computed quality values, the optimizer on
  * a small patch, the reusable handle, growable structs, a quad-dominant patch (triangles as
- * three indices and QUADOPT_NO_VERTEX, the report's per-kind fields), and every error status
+ * three indices and QUADOPT_NO_VERTEX, the report's per-kind fields), a mesh on a curved
+ * surface (quadopt_optimize_surface(), marked feature edges, the report's surface fields), and
+ * every error status
  * that bad input can produce, each checked to leave the caller's buffers untouched.
  *
  * On POSIX systems also: a child forked after use, and (Linux) an input too large for an
@@ -268,22 +270,19 @@ static void test_optimize(void) {
   CHECK(r.iterations >= 1 && r.converged == 1);
   CHECK(r.loops_slide + r.loops_snap + r.loops_fixed == 1);
 
-  /* dim 3: the same x and y, z never written (a NaN z is never even read). */
+  /* dim 3 with the same z at every vertex (a planar mesh): the same x and y, z never written
+     (a z that is one NaN everywhere is never even used). */
   grid_coords(xy, 1.6, 1.5);
   for (i = 0; i < GRID_N; ++i) {
     xyz[3 * i] = xy[2 * i];
     xyz[3 * i + 1] = xy[2 * i + 1];
-    xyz[3 * i + 2] = i == 4 ? NAN : 0.25 * i;
+    xyz[3 * i + 2] = NAN;
   }
   CHECK_STATUS(quadopt_optimize(xyz, 3, GRID_N, grid_quads, GRID_Q, NULL, &o, NULL), QUADOPT_STATUS_OK);
   CHECK_STATUS(quadopt_optimize(xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, NULL), QUADOPT_STATUS_OK);
   for (i = 0; i < GRID_N; ++i) {
     CHECK(xyz[3 * i] == xy[2 * i] && xyz[3 * i + 1] == xy[2 * i + 1]);
-    if (i == 4) {
-      CHECK(isnan(xyz[3 * i + 2]));
-    } else {
-      CHECK(xyz[3 * i + 2] == 0.25 * i);
-    }
+    CHECK(isnan(xyz[3 * i + 2]));
   }
 
   /* A fixed centre stays where it is, bit for bit; NULL options are the defaults. */
@@ -828,6 +827,113 @@ static void test_fork_and_memory_limits(void) {
 }
 #endif
 
+/* A curved mesh: a 4 x 4 grid of quads on a quarter of the cylinder x^2 + y^2 = 1 (vertex
+ * 5 j + i at angle i pi / 8, height 0.4 j), the centre vertex 12 pushed along the cylinder to
+ * angle 2.6 pi / 8, optimized on its surface by quadopt_optimize_surface(). */
+#define CYL_N 25
+#define CYL_F 16
+static const double kPi8 = 0.39269908169872414; /* pi / 8 */
+
+static void cylinder_coords(double *xyz) {
+  int i, j;
+  for (j = 0; j < 5; ++j) {
+    for (i = 0; i < 5; ++i) {
+      xyz[3 * (5 * j + i)] = cos(i * kPi8);
+      xyz[3 * (5 * j + i) + 1] = sin(i * kPi8);
+      xyz[3 * (5 * j + i) + 2] = 0.4 * j;
+    }
+  }
+  xyz[36] = cos(2.6 * kPi8);
+  xyz[37] = sin(2.6 * kPi8);
+}
+
+static void cylinder_faces(uint32_t *faces) {
+  uint32_t k;
+  for (k = 0; k < CYL_F; ++k) {
+    const uint32_t v = (k / 4) * 5 + k % 4;
+    faces[4 * k] = v;
+    faces[4 * k + 1] = v + 1;
+    faces[4 * k + 2] = v + 6;
+    faces[4 * k + 3] = v + 5;
+  }
+}
+
+static void test_surface(void) {
+  double xyz[3 * CYL_N], before[3 * CYL_N], again[3 * CYL_N];
+  uint32_t faces[4 * CYL_F];
+  uint8_t fixed[CYL_N];
+  const uint32_t marked[8] = {1, 6, 6, 11, 16, 11, 16, 21}; /* the vertical line at angle pi / 8 */
+  const uint32_t bad[4] = {1, 6, 0, 6};
+  QuadoptReport r = quadopt_report_init(), r2 = quadopt_report_init(), sentinel;
+  double tolerance = 0;
+  int v, f, k, ok = 1;
+  cylinder_coords(xyz);
+  cylinder_faces(faces);
+  memcpy(before, xyz, sizeof xyz);
+  for (v = 0; v < CYL_N; ++v) fixed[v] = v < 5; /* the bottom row */
+  /* The chordal tolerance: how far the faceted input is from the cylinder at most, the
+   * sagitta of the widest face's angular span. */
+  for (f = 0; f < CYL_F; ++f) {
+    double lo = 10, hi = -10;
+    for (k = 0; k < 4; ++k) {
+      const double a = atan2(before[3 * faces[4 * f + k] + 1], before[3 * faces[4 * f + k]]);
+      lo = a < lo ? a : lo;
+      hi = a > hi ? a : hi;
+    }
+    if (1 - cos((hi - lo) / 2) > tolerance) tolerance = 1 - cos((hi - lo) / 2);
+  }
+  CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, fixed, NULL, 0, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.struct_size == sizeof r && r.surface == 1);
+  CHECK(r.output.min > r.input.min + 0.05 && r.output.inverted == 0);
+  CHECK(r.output_verdict.min > r.input_verdict.min);
+  CHECK(r.max_distance < 1e-9 && r.max_feature_distance < 1e-9 && r.corners >= 4 && r.feature_curves >= 1);
+  for (v = 0; v < CYL_N; ++v) {
+    const double off = hypot(xyz[3 * v], xyz[3 * v + 1]) - 1.0;
+    ok = ok && off <= 1e-12 && -off <= tolerance + 1e-12;
+    if (v < 5) ok = ok && memcmp(&xyz[3 * v], &before[3 * v], 3 * sizeof(double)) == 0;
+  }
+  CHECK(ok); /* on the cylinder within the chordal tolerance; fixed vertices bit for bit */
+  /* quadopt_optimize with dim 3 takes the same path when z varies. */
+  memcpy(again, before, sizeof before);
+  CHECK_STATUS(quadopt_optimize(again, 3, CYL_N, faces, CYL_F, fixed, NULL, &r2), QUADOPT_STATUS_OK);
+  CHECK(r2.surface == 1 && memcmp(again, xyz, sizeof xyz) == 0);
+  /* A marked line cuts the surface into two patches; its vertices stay on it. */
+  memcpy(xyz, before, sizeof before);
+  CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, marked, 4, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.patches == 2);
+  for (v = 6; v <= 16; v += 5) {
+    CHECK(fabs(xyz[3 * v] - cos(kPi8)) < 1e-12 && fabs(xyz[3 * v + 1] - sin(kPi8)) < 1e-12);
+  }
+  /* Errors write nothing: a pair that is not an edge, NULL edges with a count. */
+  memcpy(xyz, before, sizeof before);
+  sentinel = quadopt_report_init();
+  sentinel.iterations = 12345;
+  r = sentinel;
+  CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, bad, 2, NULL, &r),
+               QUADOPT_STATUS_INVALID_ARGUMENT);
+  CHECK(strstr(quadopt_last_error(), "feature edge 1, vertices (0, 6), is not an edge") != NULL);
+  CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, NULL, 2, NULL, &r), QUADOPT_STATUS_NULL_POINTER);
+  CHECK_STATUS(quadopt_optimize_surface(NULL, CYL_N, faces, CYL_F, NULL, NULL, 0, NULL, &r), QUADOPT_STATUS_NULL_POINTER);
+  CHECK(memcmp(xyz, before, sizeof xyz) == 0 && memcmp(&r, &sentinel, sizeof r) == 0);
+  /* A report of the size before the surface fields is filled up to that size only. */
+  {
+    const size_t old_size = offsetof(QuadoptReport, surface);
+    QuadoptReport small = sentinel;
+    small.struct_size = (uint32_t)old_size;
+    small.surface = 77;
+    small.max_distance = -5.0;
+    CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, NULL, 0, NULL, &small), QUADOPT_STATUS_OK);
+    CHECK(small.struct_size == old_size && small.surface == 77 && small.max_distance == -5.0);
+    CHECK(small.output.min > small.input.min);
+  }
+  /* A reusable handle optimizes planar meshes only. */
+  {
+    QuadoptOptimizer *handle = NULL;
+    CHECK_STATUS(quadopt_optimizer_create(before, 3, CYL_N, faces, CYL_F, NULL, &handle), QUADOPT_STATUS_NOT_PLANAR);
+    CHECK(handle == NULL);
+  }
+}
+
 int main(void) {
   /* Nothing failed on this thread yet. */
   CHECK(quadopt_last_error() != NULL && quadopt_last_error()[0] == '\0');
@@ -840,6 +946,7 @@ int main(void) {
   test_effort();
   test_errors();
   test_mixed();
+  test_surface();
   CHECK(cancel_calls == 3);
 #ifdef QUADOPT_TEST_POSIX
   test_fork_and_memory_limits();

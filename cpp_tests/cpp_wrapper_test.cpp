@@ -2,7 +2,8 @@
 // the move-only Optimizer, progress callbacks (cancellation and exceptions), and concurrent
 // calls from several std::threads, with one shared handle and without; a quad-dominant mesh
 // (quadopt::triangle, quadopt::no_vertex, the per-kind statistics of the report and of
-// quadopt::quality_by_kind).
+// quadopt::quality_by_kind); a mesh on a curved surface (quadopt::optimize_surface, marked
+// feature edges, the report's surface fields).
 //
 // Usage: cpp_wrapper_test DATA_DIR
 #include "test_support.hpp"
@@ -29,6 +30,7 @@ static_assert(std::is_base_of<std::runtime_error, quadopt::Error>::value, "Error
 qt::Mesh g_plate;
 qt::Mesh g_grid;
 qt::Mesh g_mixed;
+qt::Mesh g_cylinder;
 
 static_assert(quadopt::no_vertex == UINT32_MAX && quadopt::no_vertex == QUADOPT_NO_VERTEX, "the sentinel");
 static_assert(quadopt::triangle(3, 4, 6)[3] == quadopt::no_vertex && quadopt::triangle(3, 4, 6)[2] == 6,
@@ -156,15 +158,15 @@ void test_optimizer_handle() {
   std::vector<double> grid_xy = g_grid.xy();
   CHECK_THROWS_STATUS(c.optimize(grid_xy), QUADOPT_STATUS_MISMATCH);
 
-  // dim 3 through the wrapper: same x, y; z untouched.
+  // dim 3 through the wrapper, the same z everywhere (a planar mesh): same x, y; z untouched.
   std::vector<double> xyz = g_plate.xyz;
-  for (std::size_t i = 0; i < g_plate.vertices(); ++i) xyz[3 * i + 2] = 0.5 + static_cast<double>(i);
+  for (std::size_t i = 0; i < g_plate.vertices(); ++i) xyz[3 * i + 2] = 0.5;
   quadopt::Optimizer d(xyz, 3, g_plate.quads);
   d.optimize(xyz);
   bool same = true;
   for (std::size_t i = 0; i < g_plate.vertices(); ++i) {
     same = same && qt::same_bits(xyz[3 * i], ref[2 * i]) && qt::same_bits(xyz[3 * i + 1], ref[2 * i + 1]) &&
-           xyz[3 * i + 2] == 0.5 + static_cast<double>(i);
+           xyz[3 * i + 2] == 0.5;
   }
   CHECK(same);
 
@@ -397,6 +399,76 @@ void test_triangles() {
   }
 }
 
+/// The quarter cylinder x^2 + y^2 = 4 of data/quarter_cylinder.obj (9 x 7 vertices, vertex
+/// 9 j + i): optimize_surface() on points, with the bottom row fixed and the vertical line
+/// i = 4 marked as a feature curve.
+void test_surface() {
+  std::vector<quadopt::Point3> points;
+  for (std::size_t v = 0; v < g_cylinder.vertices(); ++v) {
+    points.push_back({g_cylinder.xyz[3 * v], g_cylinder.xyz[3 * v + 1], g_cylinder.xyz[3 * v + 2]});
+  }
+  const std::vector<quadopt::Point3> before = points;
+  std::vector<std::uint8_t> fixed(points.size(), 0);
+  for (std::size_t v = 0; v < 9; ++v) fixed[v] = 1;
+  std::vector<quadopt::Edge> line;
+  for (std::uint32_t j = 0; j < 6; ++j) line.push_back({4 + 9 * j, 4 + 9 * (j + 1)});
+  // The chordal tolerance: the sagitta of the widest face's angular span.
+  double tolerance = 0;
+  for (std::size_t f = 0; f < g_cylinder.quad_count(); ++f) {
+    double lo = 10, hi = -10;
+    for (int k = 0; k < 4; ++k) {
+      const auto &p = before[g_cylinder.quads[4 * f + k]];
+      lo = std::fmin(lo, std::atan2(p[1], p[0]));
+      hi = std::fmax(hi, std::atan2(p[1], p[0]));
+    }
+    tolerance = std::fmax(tolerance, 2.0 * (1.0 - std::cos((hi - lo) / 2)));
+  }
+  const quadopt::Report r = quadopt::optimize_surface(points, g_cylinder.quads, fixed, line);
+  CHECK(quadopt::on_surface(r) && r.output.min > r.input.min && r.output.inverted == 0);
+  CHECK(r.patches == 2 && r.feature_curves >= 5 && r.max_distance < 1e-9 && r.max_feature_distance < 1e-9);
+  bool on = true, still = true, line_ok = true;
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    const double off = std::hypot(points[v][0], points[v][1]) - 2.0;
+    on = on && off <= 1e-6 && -off <= tolerance + 1e-6;
+    if (v < 9) still = still && qt::same_bits(points[v][0], before[v][0]) && qt::same_bits(points[v][1], before[v][1]) &&
+                       qt::same_bits(points[v][2], before[v][2]);
+    if (v % 9 == 4) line_ok = line_ok && std::fabs(points[v][0] - before[v][0]) < 1e-12 &&
+                              std::fabs(points[v][1] - before[v][1]) < 1e-12;
+  }
+  CHECK_MSG(on, "a vertex left the cylinder (tolerance " << tolerance << ")");
+  CHECK_MSG(still, "a fixed vertex moved");
+  CHECK_MSG(line_ok, "a vertex of the marked line left it");
+  // The flat-vector overload and optimize() with dim 3 (no marked edge) agree bit for bit.
+  std::vector<double> a = g_cylinder.xyz, b = g_cylinder.xyz;
+  const quadopt::Report ra = quadopt::optimize_surface(a, g_cylinder.quads);
+  const quadopt::Report rb = quadopt::optimize(b, 3, g_cylinder.quads);
+  CHECK(qt::same_bits(a, b) && quadopt::on_surface(ra) && quadopt::on_surface(rb) && rb.patches == 1);
+  // Errors leave the points untouched: a marked pair that is not an edge (a quad's diagonal),
+  // an exception from the progress callback (rethrown).
+  std::vector<quadopt::Point3> c = before;
+  try {
+    quadopt::optimize_surface(c, g_cylinder.quads, {}, {{0, 10}});
+    CHECK_MSG(false, "a diagonal was accepted as a feature edge");
+  } catch (const quadopt::Error &e) {
+    CHECK(e.status() == QUADOPT_STATUS_INVALID_ARGUMENT);
+    CHECK_MSG(e.message().find("feature edge 0, vertices (0, 10), is not an edge") != std::string::npos, e.message());
+  }
+  const quadopt::Options throwing = quadopt::Options().progress([](const quadopt::Progress &) -> bool {
+    throw std::runtime_error("from the callback");
+  });
+  try {
+    quadopt::optimize_surface(c, g_cylinder.quads, {}, {}, throwing);
+    CHECK_MSG(false, "the callback's exception was lost");
+  } catch (const std::runtime_error &e) {
+    CHECK(std::string(e.what()) == "from the callback");
+  }
+  bool same = true;
+  for (std::size_t v = 0; v < c.size(); ++v) same = same && c[v] == before[v];
+  CHECK_MSG(same, "a failed call changed the points");
+  // A handle refuses a curved mesh.
+  CHECK_THROWS_STATUS(quadopt::Optimizer(g_cylinder.xyz, 3, g_cylinder.quads), QUADOPT_STATUS_NOT_PLANAR);
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -409,6 +481,7 @@ int main(int argc, char **argv) {
     g_plate = qt::read_obj(dir + "/plate_hole.obj");
     g_grid = qt::read_obj(dir + "/jittered_grid.obj");
     g_mixed = qt::read_obj(dir + "/mixed_grid.obj");
+    g_cylinder = qt::read_obj(dir + "/quarter_cylinder.obj");
     test_options();
     test_effort();
     test_errors();
@@ -416,6 +489,7 @@ int main(int argc, char **argv) {
     test_progress();
     test_concurrency();
     test_triangles();
+    test_surface();
   } catch (const std::exception &e) {
     CHECK_MSG(false, "unexpected exception: " << e.what());
   }

@@ -24,9 +24,16 @@
 //
 // With --planes: meshes in a tilted plane (z = x + y) and in x = const are optimized in their
 // plane (they stay in it to 1e-12 of the extent, quality improves, the result equals the
-// CLI's bit for bit), and a curved mesh throws quadopt::NotPlanar naming its farthest vertex.
+// CLI's bit for bit); for a curved mesh to_arrays() and quality() throw quadopt::NotPlanar
+// naming its farthest vertex, and optimize() optimizes it on its surface.
 //
-// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --faces or --planes)
+// With --surface: quarter_cylinder.obj (a mesh on a curved surface) through OpenMesh (double
+// and float points) and CGAL: better, on the cylinder within the chordal tolerance, boundary
+// vertices on the original boundary polyline, corners bit-identical, the same as the C call;
+// feature edges from OpenMesh's edge status, CGAL's "e:is_feature" map and explicit lists.
+//
+// Usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE   (or MESH_FILE = --faces, --planes or
+// --surface)
 #include "test_support.hpp"
 
 #include <quadopt.h>
@@ -1068,14 +1075,21 @@ void test_curved() {
     p[2] = 0.05 * ((s - 3) * (s - 3) + (t - 3) * (t - 3));
   });
   const auto corner = [&g](std::size_t v) { return g.is_corner(v); };
+  // to_arrays() (the planar optimizer's arrays) and quality() refuse it; optimize() optimizes
+  // it on its surface.
   OMeshD om = openmesh_from<OMeshD>(xyz, g.quads);
-  expect_not_planar("OpenMesh, paraboloid", [&] { quadopt::openmesh::optimize(om); }, corner);
-  CHECK_MSG(qt::same_bits(openmesh_points(om), xyz), "OpenMesh: a rejected mesh was changed");
+  expect_not_planar("OpenMesh, paraboloid", [&] { quadopt::openmesh::to_arrays(om); }, corner);
   CHECK_THROWS_STATUS(quadopt::openmesh::quality(om), QUADOPT_STATUS_NOT_PLANAR);
+  CHECK_MSG(qt::same_bits(openmesh_points(om), xyz), "OpenMesh: a refused mesh was changed");
+  const quadopt::Report ro = quadopt::openmesh::optimize(om);
+  CHECK(quadopt::on_surface(ro) && ro.output.min >= ro.input.min && ro.max_distance < 1e-9);
   SM3 sm = cgal_from(xyz, g.quads);
-  expect_not_planar("CGAL, paraboloid", [&] { quadopt::cgal::optimize(sm); }, corner);
-  CHECK_MSG(qt::same_bits(cgal_points(sm), xyz), "CGAL: a rejected mesh was changed");
+  expect_not_planar("CGAL, paraboloid", [&] { quadopt::cgal::to_arrays(sm); }, corner);
   CHECK_THROWS_STATUS(quadopt::cgal::quality(sm), QUADOPT_STATUS_NOT_PLANAR);
+  CHECK_MSG(qt::same_bits(cgal_points(sm), xyz), "CGAL: a refused mesh was changed");
+  const quadopt::Report rc = quadopt::cgal::optimize(sm);
+  CHECK(quadopt::on_surface(rc) && rc.output.min >= rc.input.min);
+  CHECK_MSG(qt::same_bits(cgal_points(sm), openmesh_points(om)), "CGAL and OpenMesh differ on a surface");
 
   // One vertex 1e-4 of the diagonal off the tilted plane: rejected, naming it; 1e-7 (as in
   // float files): accepted.
@@ -1089,7 +1103,7 @@ void test_curved() {
   std::vector<double> bump = flat;
   bump[3 * bumped + 2] += 1e-4 * diag;
   OMeshD bm = openmesh_from<OMeshD>(bump, g.quads);
-  expect_not_planar("OpenMesh, one vertex off the plane", [&] { quadopt::openmesh::optimize(bm); },
+  expect_not_planar("OpenMesh, one vertex off the plane", [&] { quadopt::openmesh::to_arrays(bm); },
                     [bumped](std::size_t v) { return v == bumped; });
   std::vector<double> noise = flat;
   noise[3 * bumped + 2] += 1e-7 * diag;
@@ -1104,11 +1118,157 @@ void test_curved() {
   CHECK_MSG(accepted, "a mesh 1e-7 of its diagonal off its plane is rejected");
 }
 
+/// What a result on data/quarter_cylinder.obj (the cylinder x^2 + y^2 = 4, 9 x 7 vertices,
+/// vertex 9 j + i) must satisfy: better, every vertex on the cylinder within the chordal
+/// tolerance (the sagitta of the input's widest face) and `tol`, every boundary vertex on the
+/// original boundary polyline (CGAL's boundary cycles) within `tol`, the four corners
+/// bit-identical, something moved.
+void check_on_cylinder(const std::string &tag, const std::vector<double> &before, const std::vector<double> &after,
+                       const std::vector<std::uint32_t> &quads, const quadopt::Report &r, double tol) {
+  CHECK_MSG(quadopt::on_surface(r), tag << ": not a surface run");
+  CHECK_MSG(r.output.min > r.input.min && r.output.inverted == 0,
+            tag << ": min " << r.input.min << " -> " << r.output.min << ", inverted " << r.output.inverted);
+  double chord = 0;
+  for (std::size_t f = 0; f < quads.size() / 4; ++f) {
+    double lo = 10, hi = -10;
+    for (int k = 0; k < 4; ++k) {
+      const double *p = &before[3 * quads[4 * f + k]];
+      lo = std::fmin(lo, std::atan2(p[1], p[0]));
+      hi = std::fmax(hi, std::atan2(p[1], p[0]));
+    }
+    chord = std::fmax(chord, 2.0 * (1.0 - std::cos((hi - lo) / 2)));
+  }
+  const std::size_t n = before.size() / 3;
+  bool on = true;
+  for (std::size_t v = 0; v < n; ++v) {
+    const double off = std::hypot(after[3 * v], after[3 * v + 1]) - 2.0;
+    on = on && off <= tol && -off <= chord + tol;
+  }
+  CHECK_MSG(on, tag << ": a vertex left the cylinder (chordal tolerance " << chord << ")");
+  const auto cycles = boundary_cycles(cgal_from(before, quads));
+  CHECK_MSG(cycles.size() == 1 && cycles[0].size() == 28, tag << ": the boundary is not one loop of 28 vertices");
+  double worst = 0;
+  for (const auto &cyc : cycles) {
+    for (std::uint32_t v : cyc) {
+      double d = 1e300;
+      for (std::size_t i = 0; i < cyc.size(); ++i) {
+        d = std::fmin(d, distance3(&after[3 * v], &before[3 * cyc[i]], &before[3 * cyc[(i + 1) % cyc.size()]]));
+      }
+      worst = std::fmax(worst, d);
+    }
+  }
+  CHECK_MSG(worst <= tol, tag << ": a boundary vertex is " << worst << " off the original boundary");
+  for (std::uint32_t c : {0u, 8u, 54u, 62u}) {
+    CHECK_MSG(qt::same_bits(after[3 * c], before[3 * c]) && qt::same_bits(after[3 * c + 1], before[3 * c + 1]) &&
+                  qt::same_bits(after[3 * c + 2], before[3 * c + 2]),
+              tag << ": corner " << c << " moved");
+  }
+  CHECK_MSG(!qt::same_bits(after, before), tag << ": nothing moved");
+}
+
+/// The OpenMesh and CGAL adapters on a mesh on a curved surface, read from an OBJ file.
+void test_surface_meshes() {
+  const std::string path = g_data + "/quarter_cylinder.obj";
+  const qt::Mesh exact = qt::read_obj(path);
+  const OMeshD loaded = load<OMeshD>(path);
+  CHECK_MSG(qt::same_bits(openmesh_points(loaded), exact.xyz), "OpenMesh's coordinates differ from the file's");
+  CHECK_MSG(openmesh_faces(loaded) == exact.quads, "OpenMesh's faces differ from the file's");
+
+  // OpenMesh, double points.
+  OMeshD om = loaded;
+  const quadopt::Report ro = quadopt::openmesh::optimize(om);
+  const std::vector<double> om_out = openmesh_points(om);
+  check_on_cylinder("OpenMesh", exact.xyz, om_out, exact.quads, ro, 1e-9);
+  CHECK(ro.patches == 1 && ro.corners == 4 && ro.max_distance < 1e-9);
+  // The C call gives the same, bit for bit.
+  std::vector<double> c_out = exact.xyz;
+  const quadopt::Report rc = quadopt::optimize_surface(c_out, exact.quads);
+  CHECK_MSG(qt::same_bits(c_out, om_out), "the OpenMesh adapter differs from the C call");
+  CHECK(rc.iterations == ro.iterations && qt::same_bits(rc.output.min, ro.output.min));
+
+  // OpenMesh, float points (the default traits): within float precision.
+  OMeshF omf = load<OMeshF>(path);
+  const quadopt::Report rf = quadopt::openmesh::optimize(omf);
+  check_on_cylinder("OpenMesh float", exact.xyz, openmesh_points(omf), exact.quads, rf, 1e-6);
+
+  // Edge status: the vertical line i = 4 marked feature() is a feature curve, its vertices
+  // stay on it (and the surface is cut in two patches); locked vertices stay put.
+  OMeshD marked = loaded;
+  marked.request_edge_status();
+  marked.request_vertex_status();
+  for (auto eh : marked.edges()) {
+    const auto h = marked.halfedge_handle(eh, 0);
+    const int a = marked.from_vertex_handle(h).idx(), b = marked.to_vertex_handle(h).idx();
+    if (a % 9 == 4 && b % 9 == 4) marked.status(eh).set_feature(true);
+  }
+  marked.status(OMeshD::VertexHandle(20)).set_locked(true);
+  const quadopt::Report rm = quadopt::openmesh::optimize(marked);
+  const std::vector<double> m_out = openmesh_points(marked);
+  check_on_cylinder("OpenMesh, marked line", exact.xyz, m_out, exact.quads, rm, 1e-9);
+  CHECK(rm.patches == 2);
+  bool line = true;
+  for (std::size_t v = 4; v < 63; v += 9) {
+    line = line && std::fabs(m_out[3 * v] - exact.xyz[3 * v]) < 1e-12 &&
+           std::fabs(m_out[3 * v + 1] - exact.xyz[3 * v + 1]) < 1e-12;
+  }
+  CHECK_MSG(line, "OpenMesh: a vertex of the marked line left it");
+  CHECK(qt::same_bits(m_out[60], exact.xyz[60]) && qt::same_bits(m_out[62], exact.xyz[62]));
+  // The same line as an explicit list, without edge status: the same result.
+  OMeshD listed = loaded;
+  quadopt::openmesh::MeshOptions lmo;
+  lmo.fixed.assign(63, 0);
+  lmo.fixed[20] = 1;
+  for (std::uint32_t j = 0; j < 6; ++j) lmo.feature_edges.push_back({4 + 9 * j, 13 + 9 * j});
+  quadopt::openmesh::optimize(listed, quadopt::Options(), lmo);
+  CHECK_MSG(qt::same_bits(openmesh_points(listed), m_out), "OpenMesh: edge status and an explicit list differ");
+  // A pair that is not an edge: an Error naming it, the mesh unchanged.
+  OMeshD bad = loaded;
+  quadopt::openmesh::MeshOptions bmo;
+  bmo.feature_edges.push_back({0, 10});
+  CHECK_THROWS_STATUS(quadopt::openmesh::optimize(bad, quadopt::Options(), bmo), QUADOPT_STATUS_INVALID_ARGUMENT);
+  CHECK(std::string(quadopt_last_error()).find("feature edge 0, vertices (0, 10)") != std::string::npos);
+  CHECK_MSG(qt::same_bits(openmesh_points(bad), exact.xyz), "OpenMesh: a refused mesh was changed");
+
+  // CGAL Surface_mesh: the same result as OpenMesh's (the same vertices and faces).
+  SM3 sm = cgal_from(exact.xyz, exact.quads);
+  const quadopt::Report rs = quadopt::cgal::optimize(sm);
+  check_on_cylinder("CGAL", exact.xyz, cgal_points(sm), exact.quads, rs, 1e-9);
+  CHECK_MSG(qt::same_bits(cgal_points(sm), om_out), "the CGAL adapter differs from OpenMesh's");
+  // The feature line as CGAL's "e:is_feature" map, and as an explicit list.
+  SM3 smf = cgal_from(exact.xyz, exact.quads);
+  auto is_feature = smf.add_property_map<SM3::Edge_index, bool>("e:is_feature", false).first;
+  auto is_fixed = smf.add_property_map<SM3::Vertex_index, bool>("v:fixed", false).first;
+  put(is_fixed, SM3::Vertex_index(20), true);
+  for (auto e : smf.edges()) {
+    const auto h = smf.halfedge(e);
+    if (static_cast<std::size_t>(smf.source(h)) % 9 == 4 && static_cast<std::size_t>(smf.target(h)) % 9 == 4) {
+      put(is_feature, e, true);
+    }
+  }
+  const quadopt::Report rsf = quadopt::cgal::optimize(smf);
+  CHECK(rsf.patches == 2);
+  CHECK_MSG(qt::same_bits(cgal_points(smf), m_out), "CGAL's e:is_feature differs from OpenMesh's edge status");
+  SM3 sml = cgal_from(exact.xyz, exact.quads);
+  auto fixed_l = sml.add_property_map<SM3::Vertex_index, bool>("v:fixed", false).first;
+  put(fixed_l, SM3::Vertex_index(20), true);
+  quadopt::cgal::MeshOptions cmo;
+  for (std::size_t j = 0; j < 6; ++j) cmo.feature_edges.push_back({4 + 9 * j, 13 + 9 * j});
+  quadopt::cgal::optimize(sml, quadopt::Options(), cmo);
+  CHECK_MSG(qt::same_bits(cgal_points(sml), m_out), "CGAL: an explicit list differs from OpenMesh's edge status");
+  SM3 smb = cgal_from(exact.xyz, exact.quads);
+  quadopt::cgal::MeshOptions cbad;
+  cbad.feature_edges.push_back({0, 10});
+  CHECK_THROWS_STATUS(quadopt::cgal::optimize(smb, quadopt::Options(), cbad), QUADOPT_STATUS_INVALID_ARGUMENT);
+  cbad.feature_edges[0] = {0, 99};
+  CHECK_THROWS_STATUS(quadopt::cgal::optimize(smb, quadopt::Options(), cbad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  CHECK_MSG(qt::same_bits(cgal_points(smb), exact.xyz), "CGAL: a refused mesh was changed");
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
   if (argc < 5) {
-    std::cerr << "usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE|--faces|--planes\n";
+    std::cerr << "usage: mesh_tests DATA_DIR CLI TMP_DIR MESH_FILE|--faces|--planes|--surface\n";
     return 2;
   }
   g_data = argv[1];
@@ -1118,6 +1278,8 @@ int main(int argc, char **argv) {
   try {
     if (which == "--faces") {
       test_faces();
+    } else if (which == "--surface") {
+      test_surface_meshes();
     } else if (which == "--planes") {
       test_tilted_plane();
       test_axis_planes();

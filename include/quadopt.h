@@ -5,7 +5,9 @@
  * QUADOPT_STATUS_OK nothing has been written to the caller's buffers, and
  * quadopt_last_error() gives a detailed message (thread-local).
  * Counts are size_t, vertex indices uint32_t, coordinates `dim` (2 or 3) doubles per vertex
- * of which x and y are read and written, z never written.
+ * of which x and y are read and written, z never written, for a planar mesh (the same z at
+ * every vertex); a mesh on a curved surface (quadopt_optimize_surface(), or
+ * quadopt_optimize() with dim 3 and a z that varies) is optimized on that surface in 3D.
  *
  * Threads: every function may be called from several threads at once. Optimizations run on
  * the library's own pool of worker threads (RAYON_NUM_THREADS, else one per core), started on
@@ -96,11 +98,11 @@ typedef enum QuadoptStatus {
      */
     QUADOPT_STATUS_REPEATED_VERTEX = 6,
     /**
-     * An edge is shared by more than two quads.
+     * An edge is shared by more than two faces.
      */
     QUADOPT_STATUS_NON_MANIFOLD = 7,
     /**
-     * An x or y coordinate is NaN or infinite.
+     * A coordinate that is read (x or y; z too on a surface) is NaN or infinite.
      */
     QUADOPT_STATUS_NON_FINITE_COORDINATE = 8,
     /**
@@ -120,7 +122,10 @@ typedef enum QuadoptStatus {
      */
     QUADOPT_STATUS_PANIC = 12,
     /**
-     * Reserved: the mesh is not planar. Not returned by this version (z is ignored).
+     * The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates whose
+     * z varies given to a reusable optimizer (`quadopt_optimizer_create()`,
+     * `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on its surface
+     * instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses it too.
      */
     QUADOPT_STATUS_NOT_PLANAR = 13,
     /**
@@ -134,6 +139,7 @@ typedef enum QuadoptStatus {
      * The mesh, or a connected part of it, is closed: it has no boundary edge (every vertex
      * is interior, as in a periodic grid whose quads wrap around). A closed surface cannot lie
      * flat in a plane without folds, so it has no orientation that makes every quad valid.
+     * (Only planar runs refuse it: on a surface in 3D a closed mesh is accepted.)
      */
     QUADOPT_STATUS_CLOSED_MESH = 15,
 } QuadoptStatus;
@@ -463,11 +469,20 @@ typedef struct QuadoptFaceKindQuality {
  * What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
  * library writes only the first `struct_size` bytes (at most its own struct) and, on success,
  * sets `struct_size` to the number of bytes it filled. Every size a published header declared
- * is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, and 248 (0.2,
- * ending after `reserved2`, before the per-kind fields); a `struct_size` smaller than the
- * first is `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields
- * (`input`, `output`, `sweeps`) cover every face; the per-kind fields at the end split
- * `input` and `output` into the quads and the triangles.
+ * is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, 248 (0.2,
+ * ending after `reserved2`, before the per-kind fields) and 344 (ending after
+ * `output_triangles`, before the surface fields); a `struct_size` smaller than the first is
+ * `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields (`input`,
+ * `output`, `sweeps`) cover every face; the per-kind fields split `input` and `output` into
+ * the quads and the triangles.
+ *
+ * A run on a surface (`surface` is 1) fills the fields as follows: `input`, `output`,
+ * `sweeps` and the per-kind fields give the signed measure (each corner against the surface's
+ * normal, so a face folded over is inverted) and `input_verdict`, `output_verdict` Verdict's
+ * 3D one; `corners` counts the feature corners (never moved); `converged` is 1 when the sweeps
+ * stopped before their cap; `initial_energy`, `final_energy` and `hausdorff` (and its
+ * relative value) are NaN (not computed on a surface); `max_boundary_deviation` (and its
+ * relative value) equals `max_feature_distance`; the three `loops_*` counts are 0.
  */
 typedef struct QuadoptReport {
     /**
@@ -590,6 +605,57 @@ typedef struct QuadoptReport {
      * `output` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
      */
     struct QuadoptFaceKindQuality output_triangles;
+    /**
+     * 1 when the mesh was optimized on its surface in 3D (`quadopt_optimize_surface()`, or
+     * `quadopt_optimize()` with `dim` 3 and a z that varies), 0 for a planar run. Added with
+     * surface support: written only when the caller's `struct_size` covers it (as for every
+     * field below).
+     */
+    uint32_t surface;
+    /**
+     * Reserved; written as 0.
+     */
+    uint32_t reserved3;
+    /**
+     * Verdict's 3D scaled Jacobian of the input (what VTK's vtkMeshQuality reports: each
+     * corner against the face's own centre normal, so blind to a face folded over). On a
+     * surface, `input` is the signed measure the optimizer ranks by (each corner against the
+     * surface's normal there). In a planar run, equal to `input`.
+     */
+    struct QuadoptQuality input_verdict;
+    /**
+     * Verdict's 3D scaled Jacobian of the output (in a planar run, equal to `output`).
+     */
+    struct QuadoptQuality output_verdict;
+    /**
+     * On a surface: the largest distance of a vertex from the input surface. 0 in a planar
+     * run (every vertex stays in the mesh's plane).
+     */
+    double max_distance;
+    /**
+     * `max_distance` divided by the input's mean edge length.
+     */
+    double max_distance_relative;
+    /**
+     * On a surface: the largest distance of a vertex on a feature curve (the boundary, a sharp
+     * or a marked edge) from that curve's original polyline. In a planar run, equal to
+     * `max_boundary_deviation` (the boundary is the planar run's only curve).
+     */
+    double max_feature_distance;
+    /**
+     * `max_feature_distance` divided by the input's mean edge length.
+     */
+    double max_feature_distance_relative;
+    /**
+     * On a surface: the feature curves found (boundary loops, sharp and marked edges, cut at
+     * the feature corners, which are counted in `corners`). 0 in a planar run.
+     */
+    size_t feature_curves;
+    /**
+     * On a surface: the smooth patches the feature curves cut the surface into. 0 in a planar
+     * run.
+     */
+    size_t patches;
 } QuadoptReport;
 
 #ifdef __cplusplus
@@ -636,10 +702,16 @@ enum QuadoptStatus quadopt_options_init(struct QuadoptOptions *out,
 struct QuadoptReport quadopt_report_init(void);
 
 /**
- * Optimizes a mesh in place: moves the vertices (x and y of each; z, if `dim` is 3, is never
- * written) to raise the quads' scaled Jacobians, keeping connectivity, corners, fixed
- * vertices and the boundary. On any error, cancellation included, neither `coords` nor
- * `report` is written.
+ * Optimizes a mesh in place: moves the vertices to raise the faces' scaled Jacobians, keeping
+ * connectivity, corners, fixed vertices and the boundary. On any error, cancellation
+ * included, neither `coords` nor `report` is written.
+ *
+ * A planar mesh (`dim` 2, or `dim` 3 with the same z at every vertex: equal, or the same
+ * bits) is optimized in the plane: x and y of each vertex move and z is never written. A
+ * `dim` 3 mesh whose z varies lies on a curved surface: it is optimized on that surface in 3D
+ * as `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a
+ * closed surface accepted; the report's `surface` is 1). A mesh in a tilted plane is such a
+ * mesh too: to optimize it in its plane, give its 2D coordinates in that plane.
  *
  * - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
  * - `dim`: 2 or 3 doubles per vertex.
@@ -648,7 +720,7 @@ struct QuadoptReport quadopt_report_init(void);
  *   followed by `QUADOPT_NO_VERTEX` (a quad-dominant mesh: quads and triangles; triangles are
  *   kept as triangles and their quality counts too). Faces may be given clockwise or
  *   counter-clockwise. Each connected part
- *   of the mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
+ *   of a planar mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
  *   whose quads wrap around) cannot lie flat in a plane without folds and is
  *   `QUADOPT_STATUS_CLOSED_MESH`.
  * - `fixed`: NULL (no fixed vertices) or `vertex_count` bytes, nonzero = the vertex never moves.
@@ -675,6 +747,10 @@ enum QuadoptStatus quadopt_optimize(double *coords,
  * `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
  * against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
  * image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
+ * A `dim` 3 mesh whose z varies lies on a curved surface: each face's value is then the
+ * signed measure a surface run reports as its `input` (each corner against the normal of the
+ * mesh's surface there, so a face folded over is negative; with the default feature angle and
+ * no marked edge), and a closed mesh is accepted.
  *
  * # Safety
  * Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
@@ -690,9 +766,60 @@ enum QuadoptStatus quadopt_quality(const double *coords,
                                    size_t per_quad_len);
 
 /**
+ * Optimizes a mesh on a curved surface in 3D in place: moves the vertices on the input
+ * surface to raise the faces' scaled Jacobians, keeping connectivity, fixed vertices and the
+ * feature curves. On any error, cancellation included, neither `coords` nor `report` is
+ * written.
+ *
+ * The surface is the input mesh itself (its faces, frozen for the run). Feature curves are the
+ * boundary, the edges whose two faces' normals differ by more than
+ * `options->feature_angle_deg`, and the edges marked in `feature_edges`; they cut the surface
+ * into smooth patches. A vertex on no feature curve moves within its patch, a vertex on a
+ * curve along the curve's original polyline (unless `options->boundary` is
+ * `QUADOPT_BOUNDARY_FIXED`, which keeps every curve's vertices in place), and feature corners
+ * (where curves meet or turn by more than the feature angle) and fixed vertices never move:
+ * they keep their coordinates bit for bit. The result is never worse than the input by the
+ * signed measure. A closed surface (a sphere, a torus) is accepted. Options as in
+ * `quadopt_optimize()` (the effort preset, the method, `max_iterations`, `max_min`, the
+ * progress callback); the report's surface fields say how far the output is from the input
+ * surface. A flat mesh is a surface too: it is optimized by the same surface method (use
+ * `quadopt_optimize()` for the planar optimizer).
+ *
+ * - `coords`: `3 * vertex_count` doubles (x, y, z per vertex), read and written; NULL only if
+ *   `vertex_count` is 0.
+ * - `faces`: `4 * face_count` vertex indices, a quad's four or a triangle's three followed by
+ *   `QUADOPT_NO_VERTEX`; faces may be given in either orientation (made consistent per
+ *   connected part). Errors as in `quadopt_optimize()`, except that a closed mesh is accepted.
+ * - `fixed`: NULL (no fixed vertices) or `vertex_count` bytes, nonzero = the vertex never moves.
+ * - `feature_edges`: `2 * feature_edge_count` vertex indices, two per marked edge (in either
+ *   order); NULL only if `feature_edge_count` is 0. A vertex index out of range is
+ *   `QUADOPT_STATUS_INDEX_OUT_OF_RANGE`, a pair that is not an edge of the mesh
+ *   `QUADOPT_STATUS_INVALID_ARGUMENT`; the message names the pair.
+ * - `options`: NULL for the defaults.
+ * - `report`: NULL, or a report whose `struct_size` is set (see `quadopt_report_init()`); its
+ *   `surface` is 1.
+ *
+ * # Safety
+ * Every non-NULL pointer must point to (aligned) memory of the size described above, valid
+ * for the duration of the call; the buffers must not overlap.
+ */
+enum QuadoptStatus quadopt_optimize_surface(double *coords,
+                                            size_t vertex_count,
+                                            const uint32_t *faces,
+                                            size_t face_count,
+                                            const uint8_t *fixed,
+                                            const uint32_t *feature_edges,
+                                            size_t feature_edge_count,
+                                            const struct QuadoptOptions *options,
+                                            struct QuadoptReport *report);
+
+/**
  * Creates a reusable optimizer for one connectivity: validates the mesh (arrays as in
- * `quadopt_optimize()`) and builds its topology once. The orientation and the fixed flags are
- * taken from this call. On success `*out` receives the handle (free it with
+ * `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only:
+ * `dim` 3 coordinates whose z varies are `QUADOPT_STATUS_NOT_PLANAR` (here and in
+ * `quadopt_optimizer_optimize()`; use `quadopt_optimize()` or `quadopt_optimize_surface()`
+ * for a mesh on a curved surface). The orientation and the fixed flags are taken from this
+ * call. On success `*out` receives the handle (free it with
  * `quadopt_optimizer_free()`); on error `*out` is not written.
  *
  * # Safety

@@ -14,6 +14,13 @@
 // input_triangles, output_quads and output_triangles split the statistics by kind
 // (quadopt::input_by_kind(), quadopt::output_by_kind(), quadopt::quality_by_kind()).
 //
+// Surfaces in 3D: quadopt::optimize_surface() optimizes a mesh on a curved surface (three
+// doubles per vertex), keeping every vertex on the input surface and on its feature curves (the
+// boundary, sharp edges and the edges the caller marks); optimize() with dim 3 does the same for
+// a mesh whose z varies (a mesh with the same z everywhere is planar: z is never written). The
+// report's surface fields (surface, input_verdict, output_verdict, max_distance,
+// max_feature_distance, feature_curves, patches) say what it did.
+//
 // Every failure throws quadopt::Error, which carries the C status code and the library's
 // detailed message; a mesh too large for the memory available is one too (status
 // QUADOPT_STATUS_OUT_OF_MEMORY), not std::bad_alloc. Adapters for mesh libraries live in
@@ -195,7 +202,8 @@ class Options {
   Options &tau(double v) { raw_.tau = v; return *this; }
   /// Compare tau with the absolute energy change, as the paper does.
   Options &tau_absolute(bool on) { raw_.tau_absolute = on ? 1 : 0; return *this; }
-  /// Boundary vertices turning by more than this (degrees, [0, 180]) are corners.
+  /// Boundary vertices turning by more than this (degrees, [0, 180]) are corners; on a surface,
+  /// also the angle between two faces' normals above which their edge is a feature curve.
   Options &feature_angle_deg(double v) { raw_.feature_angle_deg = v; return *this; }
   /// Guarded moves on or off.
   Options &guard(bool on) { raw_.guard = on ? 1 : 0; return *this; }
@@ -323,8 +331,9 @@ inline const std::uint8_t *fixed_ptr(const std::vector<std::uint8_t> &fixed, std
 
 }  // namespace detail
 
-/// Optimizes `coords` (`dim` = 2 or 3 doubles per vertex; x and y are moved, z is untouched)
-/// in place. `quads` holds 4 indices per face (`quad_count` faces; a triangle's fourth is
+/// Optimizes `coords` (`dim` = 2 or 3 doubles per vertex) in place: a planar mesh (dim 2, or
+/// dim 3 with the same z at every vertex) in its plane, x and y moved and z untouched; a dim 3
+/// mesh whose z varies on its surface in 3D, as optimize_surface() with no marked edge. `quads` holds 4 indices per face (`quad_count` faces; a triangle's fourth is
 /// no_vertex); `fixed` is empty or holds one flag per vertex (nonzero: the vertex never moves).
 /// Throws Error on failure, leaving `coords` untouched.
 inline Report optimize(double *coords, std::uint32_t dim, std::size_t vertex_count,
@@ -346,9 +355,71 @@ inline Report optimize(std::vector<double> &coords, std::uint32_t dim, const std
                   detail::fixed_ptr(fixed, n), options);
 }
 
+/// A point in 3D.
+using Point3 = std::array<double, 3>;
+/// An edge as its two vertex indices (in either order).
+using Edge = std::array<std::uint32_t, 2>;
+
+/// Whether a report comes from a run on a surface in 3D (its `surface` field, when the library
+/// that filled it knew the field).
+inline bool on_surface(const Report &r) noexcept {
+  return r.struct_size >= offsetof(Report, surface) + sizeof r.surface && r.surface != 0;
+}
+
+/// Optimizes a mesh on a curved surface in 3D in place (quadopt_optimize_surface()):
+/// `coords` holds 3 doubles per vertex, `faces` 4 slots per face (a triangle's fourth is
+/// no_vertex), `fixed` NULL or one flag per vertex, `feature_edges` NULL (with a count of 0)
+/// or two vertex indices per marked feature edge. Every vertex stays on the input surface, a
+/// vertex on a feature curve (the boundary, an edge sharper than the options'
+/// feature_angle_deg, a marked edge) on that curve; corners and fixed vertices keep their
+/// coordinates bit for bit. Throws Error on failure (a marked pair that is not an edge:
+/// status QUADOPT_STATUS_INVALID_ARGUMENT, naming it), leaving `coords` untouched.
+inline Report optimize_surface(double *coords, std::size_t vertex_count, const std::uint32_t *faces,
+                               std::size_t face_count, const std::uint8_t *fixed = nullptr,
+                               const std::uint32_t *feature_edges = nullptr, std::size_t feature_edge_count = 0,
+                               const Options &options = Options()) {
+  Report report = detail::new_report();
+  check(detail::with_options(options, [&](const QuadoptOptions *o) {
+    return quadopt_optimize_surface(coords, vertex_count, faces, face_count, fixed, feature_edges,
+                                    feature_edge_count, o, &report);
+  }));
+  return report;
+}
+
+/// optimize_surface() on vectors of flat coordinates (3 doubles per vertex).
+inline Report optimize_surface(std::vector<double> &xyz, const std::vector<std::uint32_t> &faces,
+                               const Options &options = Options(), const std::vector<std::uint8_t> &fixed = {},
+                               const std::vector<Edge> &feature_edges = {}) {
+  const std::size_t n = detail::vertex_count(xyz.size(), 3);
+  std::vector<std::uint32_t> edges;
+  edges.reserve(2 * feature_edges.size());
+  for (const Edge &e : feature_edges) {
+    edges.push_back(e[0]);
+    edges.push_back(e[1]);
+  }
+  return optimize_surface(xyz.data(), n, faces.data(), detail::quad_count(faces.size()), detail::fixed_ptr(fixed, n),
+                          edges.empty() ? nullptr : edges.data(), feature_edges.size(), options);
+}
+
+/// optimize_surface() on points: `points` is updated only on success.
+inline Report optimize_surface(std::vector<Point3> &points, const std::vector<std::uint32_t> &faces,
+                               const std::vector<std::uint8_t> &fixed = {}, const std::vector<Edge> &feature_edges = {},
+                               const Options &options = Options()) {
+  std::vector<double> xyz;
+  xyz.reserve(3 * points.size());
+  for (const Point3 &p : points) xyz.insert(xyz.end(), p.begin(), p.end());
+  const Report r = optimize_surface(xyz, faces, options, fixed, feature_edges);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  }
+  return r;
+}
+
 /// Quality statistics of a mesh (every face); fills `per_quad` (resized to the face count) with
 /// each face's signed scaled Jacobian when it is given (a triangle's is Verdict's triangle
-/// scaled Jacobian). Throws Error on an invalid mesh.
+/// scaled Jacobian). A dim 3 mesh whose z varies is measured on its surface (each corner
+/// against the surface's normal there: what a surface run reports as its `input`). Throws
+/// Error on an invalid mesh.
 inline Quality quality(const double *coords, std::uint32_t dim, std::size_t vertex_count,
                        const std::uint32_t *quads, std::size_t quad_count,
                        std::vector<double> *per_quad = nullptr) {
@@ -385,7 +456,9 @@ inline ByFaceKind quality_by_kind(const std::vector<double> &coords, std::uint32
 class Optimizer {
  public:
   /// Validates the mesh (`coords` are used for validation and orientation) and builds the
-  /// topology. Throws Error on an invalid mesh.
+  /// topology. Throws Error on an invalid mesh. Planar meshes only: dim 3 coordinates whose z
+  /// varies throw Error with status QUADOPT_STATUS_NOT_PLANAR (here and in optimize(); use
+  /// quadopt::optimize() or optimize_surface() for a mesh on a curved surface).
   Optimizer(const double *coords, std::uint32_t dim, std::size_t vertex_count, const std::uint32_t *quads,
             std::size_t quad_count, const std::uint8_t *fixed = nullptr)
       : dim_(dim), vertex_count_(vertex_count) {

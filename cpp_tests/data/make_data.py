@@ -11,6 +11,12 @@
   fifth cell (i + 2 j = 0 mod 5) split into two triangles, jittered like jittered_grid, with one
   interior vertex dragged so that quads and a triangle are inverted.
 
+- quarter_cylinder.obj: a mesh on a curved surface, an 8 x 6 grid of quads on a quarter of the
+  cylinder x^2 + y^2 = 4 (angle 0 to pi/2, height 0 to 3); interior vertices jittered along the
+  cylinder (angle and height), boundary vertices along their side (the straight sides in
+  height, the arcs in angle), the vertical line i = 4 in height only (a straight line, ends
+  included, that the tests mark as a feature curve), and vertex (2, 3) dragged by 1.1 cells in angle.
+
 Coordinates are float32 values (see f32) written with 17 significant digits, so every reader
 loads them bit for bit.
 """
@@ -40,6 +46,42 @@ def write_obj(path, points, faces, comment):
             f.write("v %s %s %s\n" % (fmt(p[0]), fmt(p[1]), fmt(0.0)))
         for q in faces:
             f.write("f %s\n" % " ".join(str(i + 1) for i in q))
+
+
+def write_obj3(path, points, faces, comment):
+    with open(path, "w") as f:
+        f.write("# %s\n" % comment)
+        for p in points:
+            f.write("v %s %s %s\n" % (fmt(p[0]), fmt(p[1]), fmt(p[2])))
+        for q in faces:
+            f.write("f %s\n" % " ".join(str(i + 1) for i in q))
+
+
+def quarter_cylinder(rng, na=8, nz=6, radius=2.0, dz=0.5):
+    """The quarter cylinder of the module's docstring: vertex j * (na + 1) + i at angle
+    i * (pi / 2) / na and height j * dz, jittered; quads counter-clockwise seen from outside."""
+    da = (math.pi / 2) / na
+    points = []
+    for j in range(nz + 1):
+        for i in range(na + 1):
+            a, z = i * da, j * dz
+            side = i in (0, na)
+            arc = j in (0, nz)
+            if not side and not arc and i != 4:
+                a += rng.uniform(-0.25, 0.25) * da
+            if not arc:
+                z += rng.uniform(-0.25, 0.25) * dz
+            elif not side and i != 4:
+                a += rng.uniform(-0.25, 0.25) * da
+            if (i, j) == (2, 3):
+                a += 1.1 * da
+            points.append((f32(radius * math.cos(a)), f32(radius * math.sin(a)), f32(z)))
+    quads = []
+    for j in range(nz):
+        for i in range(na):
+            v = j * (na + 1) + i
+            quads.append((v, v + 1, v + na + 2, v + na + 1))
+    return points, quads
 
 
 def write_off(path, points, faces):
@@ -187,6 +229,10 @@ def main():
         len(points), sum(len(f) == 4 for f in faces), sum(len(f) == 3 for f in faces))
     write_off(os.path.join(HERE, "mixed_grid.off"), points, faces)
     write_obj(os.path.join(HERE, "mixed_grid.obj"), points, faces, c)
+    points, quads = quarter_cylinder(random.Random(20261207))
+    c = "quarter cylinder x^2 + y^2 = 4, 8x6 quads, jittered: %d vertices, %d quads (cpp_tests/data/make_data.py)" % (
+        len(points), len(quads))
+    write_obj3(os.path.join(HERE, "quarter_cylinder.obj"), points, quads, c)
 
 
 if __name__ == "__main__":

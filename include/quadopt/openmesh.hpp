@@ -13,16 +13,24 @@
 // command-line tool (see quadopt/planar.hpp): in a plane x, y or z = const the other two
 // coordinates are optimized and the constant one is never changed; in a tilted plane the mesh
 // is optimized in an orthonormal frame of its best-fit plane and moved vertices are written
-// back onto that plane. A mesh that is not planar throws quadopt::NotPlanar and is left
-// unchanged. Coordinates are copied into a double buffer and only the vertices whose position
-// changed are written back, so fixed vertices, corners and vertices that did not move keep
-// their coordinates bit for bit (with float points a moved vertex is rounded to float, which
-// puts it within float precision of the plane).
+// back onto that plane. A 3D mesh that is not planar lies on a curved surface: optimize()
+// optimizes it on that surface in 3D (quadopt::optimize_surface(); the report's `surface` is
+// 1): every vertex stays on the input surface and a vertex on a feature curve on that curve.
+// Coordinates are copied into a double buffer and only the vertices whose position changed
+// are written back, so fixed vertices, corners and vertices that did not move keep their
+// coordinates bit for bit (with float points a moved vertex is rounded to float, which puts it
+// within float precision of the plane or the surface).
+//
+// Feature curves (curved meshes only; the planar optimizer's only curve is the boundary): the
+// boundary, edges whose faces' normals differ by more than the options' feature_angle_deg,
+// and the marked edges: with edge status (mesh.request_edge_status()), the edges whose
+// status is feature() (MeshOptions::feature_edges_from_status), and MeshOptions::feature_edges.
 //
 // Fixed vertices: with vertex status (mesh.request_vertex_status()), locked vertices and, by
-// default, feature vertices never move; MeshOptions::fixed adds a caller's flags. Deleted
-// faces are skipped and deleted vertices are held fixed (call garbage_collection() first to
-// drop them).
+// default, feature vertices (vertex status feature()) never move (on a curved mesh, set
+// MeshOptions::feature_is_fixed to false to let them slide along their feature curves);
+// MeshOptions::fixed adds a caller's flags. Deleted faces are skipped and deleted vertices are
+// held fixed (call garbage_collection() first to drop them).
 //
 // Faces: quads and triangles (a quad-dominant PolyMesh). Triangles are kept as triangles and
 // optimized with the quads; the arrays hold four slots per face, a triangle's fourth being
@@ -37,6 +45,7 @@
 
 #include <OpenMesh/Core/Utils/vector_traits.hh>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -52,10 +61,18 @@ namespace openmesh {
 struct MeshOptions {
   /// Locked vertices (status().locked()) never move.
   bool locked_is_fixed = true;
-  /// Feature vertices (status().feature()) never move.
+  /// Feature vertices (status().feature()) never move (false: on a curved mesh they slide along
+  /// their feature curves like any other vertex of a curve).
   bool feature_is_fixed = true;
   /// Optional extra flags, one per vertex index (nonzero: fixed); empty for none.
   std::vector<std::uint8_t> fixed;
+  /// On a curved mesh: edges whose status is feature() (when the mesh has edge status) are
+  /// feature curves (marked feature edges).
+  bool feature_edges_from_status = true;
+  /// On a curved mesh: more marked feature edges, as pairs of OpenMesh vertex indices (in
+  /// either order). A pair that is not an edge of the mesh's faces throws Error with status
+  /// QUADOPT_STATUS_INVALID_ARGUMENT naming it ("feature edge k" is its index here).
+  std::vector<std::array<std::uint32_t, 2>> feature_edges;
 };
 
 /// The flat arrays quadopt takes, read from a mesh.
@@ -70,13 +87,36 @@ struct Arrays {
   std::vector<std::uint8_t> fixed;
   /// The mesh's plane and the 2D frame of `xy` in it.
   planar::Frame frame;
+  /// Whether the mesh lies on a curved surface (only optimize() reads such a mesh; to_arrays()
+  /// throws NotPlanar). Then `xy` is empty and `xyz` and `feature_edges` are filled.
+  bool curved = false;
+  /// For a curved mesh: x, y, z of every vertex (by OpenMesh vertex index).
+  std::vector<double> xyz;
+  /// For a curved mesh: the marked feature edges, two vertex indices each
+  /// (MeshOptions::feature_edges first, then the edges with feature status).
+  std::vector<std::uint32_t> feature_edges;
 };
 
-/// Reads `mesh` into flat arrays; throws UnsupportedFace on a face of five or more vertices,
-/// NotPlanar on a 3D mesh that does not lie in a plane, and Error on a mesh too large for
-/// 32-bit indices or a `fixed` of the wrong length.
+namespace detail {
+
+/// to_arrays(), or with `allow_curved` a curved mesh read for optimize_surface().
+template <class Mesh>
+Arrays read(const Mesh &mesh, const MeshOptions &mo, bool allow_curved);
+
+}  // namespace detail
+
+/// Reads `mesh` into flat arrays for the planar optimizer; throws UnsupportedFace on a face of
+/// five or more vertices, NotPlanar on a 3D mesh that does not lie in a plane, and Error on a
+/// mesh too large for 32-bit indices or a `fixed` of the wrong length.
 template <class Mesh>
 Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
+  return detail::read(mesh, mo, false);
+}
+
+namespace detail {
+
+template <class Mesh>
+Arrays read(const Mesh &mesh, const MeshOptions &mo, bool allow_curved) {
   constexpr std::size_t dim = OpenMesh::vector_traits<typename Mesh::Point>::size_;
   static_assert(dim == 2 || dim == 3, "quadopt::openmesh needs points with 2 or 3 coordinates");
   const std::size_t n = mesh.n_vertices();
@@ -115,9 +155,35 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
     }
   }
   if (dim == 3) {
-    a.frame = planar::Frame::fit(xyz, used, "OpenMesh");
+    try {
+      a.frame = planar::Frame::fit(xyz, used, "OpenMesh");
+    } catch (const NotPlanar &) {
+      if (!allow_curved) throw;
+      a.curved = true;
+    }
   }
-  a.xy = a.frame.to_2d(xyz);
+  if (a.curved) {
+    for (const auto &e : mo.feature_edges) {
+      a.feature_edges.push_back(e[0]);
+      a.feature_edges.push_back(e[1]);
+    }
+    if (mo.feature_edges_from_status && mesh.has_edge_status()) {
+      auto live = [&](typename Mesh::FaceHandle fh) {
+        return fh.is_valid() && !(mesh.has_face_status() && mesh.status(fh).deleted());
+      };
+      for (auto eh : mesh.edges()) {
+        if (!mesh.status(eh).feature() || mesh.status(eh).deleted()) continue;
+        const auto h0 = mesh.halfedge_handle(eh, 0), h1 = mesh.halfedge_handle(eh, 1);
+        // An edge of no face that quadopt sees is not an edge of its mesh.
+        if (!live(mesh.face_handle(h0)) && !live(mesh.face_handle(h1))) continue;
+        a.feature_edges.push_back(static_cast<std::uint32_t>(mesh.from_vertex_handle(h0).idx()));
+        a.feature_edges.push_back(static_cast<std::uint32_t>(mesh.to_vertex_handle(h0).idx()));
+      }
+    }
+    a.xyz = std::move(xyz);
+  } else {
+    a.xy = a.frame.to_2d(xyz);
+  }
   bool any = false;
   std::vector<std::uint8_t> fixed(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -134,6 +200,8 @@ Arrays to_arrays(const Mesh &mesh, const MeshOptions &mo = MeshOptions()) {
   }
   return a;
 }
+
+}  // namespace detail
 
 /// Writes the optimized 2D coordinates `xy` back into `mesh` (the mesh `a` was read from):
 /// only vertices whose 2D position changed are set, to their point of the mesh's plane (for
@@ -160,13 +228,40 @@ void write_back(Mesh &mesh, const Arrays &a, const std::vector<double> &xy) {
   }
 }
 
+/// Writes the optimized 3D coordinates `xyz` of a curved mesh back into `mesh` (the mesh `a`
+/// was read from): only vertices whose position changed are set.
+template <class Mesh>
+void write_back_surface(Mesh &mesh, const Arrays &a, const std::vector<double> &xyz) {
+  using Scalar = std::decay_t<decltype(std::declval<typename Mesh::Point &>()[0])>;
+  constexpr std::size_t dim = OpenMesh::vector_traits<typename Mesh::Point>::size_;
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) {
+    bool moved = false;
+    for (std::size_t c = 0; c < 3; ++c) moved = moved || !planar::same_bits(xyz[3 * i + c], a.xyz[3 * i + c]);
+    if (!moved) continue;
+    const typename Mesh::VertexHandle vh(static_cast<int>(i));
+    typename Mesh::Point p = mesh.point(vh);
+    for (std::size_t c = 0; c < dim; ++c) p[static_cast<int>(c)] = static_cast<Scalar>(xyz[3 * i + c]);
+    mesh.set_point(vh, p);
+  }
+}
+
 /// Optimizes `mesh` in place and returns the report (with per-kind statistics in input_quads,
-/// input_triangles, output_quads, output_triangles). Throws Error (UnsupportedFace for a face of
-/// five or more vertices, NotPlanar for a mesh that is not planar) and leaves the mesh
-/// unchanged on any failure.
+/// input_triangles, output_quads, output_triangles): a planar mesh in its plane, a curved one
+/// on its surface in 3D (the report's `surface` is 1; feature curves as described above).
+/// Throws Error (UnsupportedFace for a face of five or more vertices; status
+/// QUADOPT_STATUS_INVALID_ARGUMENT for a marked feature edge that is not an edge) and leaves
+/// the mesh unchanged on any failure.
 template <class Mesh>
 Report optimize(Mesh &mesh, const Options &options = Options(), const MeshOptions &mo = MeshOptions()) {
-  const Arrays a = to_arrays(mesh, mo);
+  const Arrays a = detail::read(mesh, mo, true);
+  if (a.curved) {
+    std::vector<double> xyz = a.xyz;
+    const Report r = quadopt::optimize_surface(
+        xyz.data(), mesh.n_vertices(), a.quads.data(), a.quads.size() / 4, a.fixed.empty() ? nullptr : a.fixed.data(),
+        a.feature_edges.empty() ? nullptr : a.feature_edges.data(), a.feature_edges.size() / 2, options);
+    write_back_surface(mesh, a, xyz);
+    return r;
+  }
   std::vector<double> xy = a.xy;
   Report r = quadopt::optimize(xy, 2, a.quads, options, a.fixed);
   write_back(mesh, a, xy);
@@ -175,7 +270,7 @@ Report optimize(Mesh &mesh, const Options &options = Options(), const MeshOption
 
 /// Quality statistics of `mesh` over every face, measured in its plane (and each face's scaled
 /// Jacobian in `per_quad`, in the order of the mesh's non-deleted faces, when given). Throws as
-/// to_arrays() does.
+/// to_arrays() does (NotPlanar for a curved mesh: its report from optimize() has its quality).
 template <class Mesh>
 Quality quality(const Mesh &mesh, std::vector<double> *per_quad = nullptr) {
   MeshOptions mo;

@@ -10,7 +10,8 @@
 //   of the plane; vertices that did not move keep their coordinates bit for bit.
 // - A mesh whose used vertices lie farther than planar::tolerance (1e-5) times the bounding
 //   box diagonal from the fitted plane is curved: NotPlanar (an Error with status
-//   QUADOPT_STATUS_NOT_PLANAR) names the farthest vertex.
+//   QUADOPT_STATUS_NOT_PLANAR) names the farthest vertex. The adapters' optimize() catches it
+//   and optimizes the mesh on its surface in 3D instead.
 //
 // The fit works on coordinates scaled by a power of two (exact), so it behaves the same at any
 // finite scale, and gives the command-line tool's frame bit for bit.
@@ -30,8 +31,9 @@
 
 namespace quadopt {
 
-/// Thrown by the mesh adapters for a mesh that does not lie in a plane (status
-/// QUADOPT_STATUS_NOT_PLANAR): quadopt optimizes planar meshes only.
+/// Thrown by the mesh adapters' planar functions (to_arrays(), quality()) for a mesh that does
+/// not lie in a plane (status QUADOPT_STATUS_NOT_PLANAR). Their optimize() takes such a mesh:
+/// it optimizes it on its surface in 3D (quadopt::optimize_surface()).
 class NotPlanar : public Error {
  public:
   /// Vertex `vertex` (the mesh library's index) is `distance` away from the best-fit plane,
@@ -53,7 +55,8 @@ class NotPlanar : public Error {
     std::ostringstream s;
     s.precision(3);
     s << "the mesh is not planar: " << library << " vertex " << vertex << " is " << std::scientific << distance
-      << " away from the best-fit plane (tolerance " << tolerance << "); quadopt optimizes planar meshes only";
+      << " away from the best-fit plane (tolerance " << tolerance
+      << "); the planar optimizer takes planar meshes only (optimize() optimizes a curved mesh on its surface)";
     return s.str();
   }
   std::size_t vertex_;

@@ -5,7 +5,8 @@
 use crate::alloc::try_with_capacity;
 use crate::mesh::Mesh;
 use crate::quiet_threads;
-use glam::DVec2;
+use crate::surface::SurfaceMesh;
+use glam::{DVec2, DVec3};
 use std::panic::{self, AssertUnwindSafe};
 
 use super::quiet;
@@ -228,6 +229,131 @@ pub(super) unsafe fn read_mesh(
     // Faces: quads, and triangles with QUADOPT_NO_VERTEX fourth (a quad-only array builds the
     // mesh Mesh::new would).
     Ok(Mesh::with_faces(points, quads, fixed)?)
+}
+
+/// Whether `coords` holds 3D points (`dim` 3) whose z is not the same at every vertex: a mesh
+/// on a curved surface, for the surface optimizer. "The same" is equal (`-0.0` and `0.0`
+/// included) or bit-identical (so a z left as one NaN pattern stays the planar path's, whose
+/// z is never read). False whenever a check of the arguments fails, so that the planar path,
+/// which checks them first, reports the failure exactly as before.
+///
+/// # Safety
+/// As [`read_mesh`].
+pub(super) unsafe fn z_varies(coords: *const f64, dim: u32, vertex_count: usize) -> bool {
+    if dim != 3 || vertex_count < 2 || check_u32_count(vertex_count, "vertex_count").is_err() {
+        return false;
+    }
+    let Ok(len) = checked_count(vertex_count, 3, "vertex_count * dim") else { return false };
+    // SAFETY: the caller guarantees `coords` holds `vertex_count * 3` doubles.
+    let Ok(flat) = (unsafe { checked_slice(coords, len, "coords") }) else { return false };
+    let z0 = flat[2];
+    flat.chunks_exact(3).any(|c| !(c[2] == z0 || c[2].to_bits() == z0.to_bits()))
+}
+
+/// Reads the optional marked feature edges (`2 * count` vertex indices, two per edge) into
+/// owned memory.
+///
+/// # Safety
+/// `edges` must be NULL with `count == 0`, or point to `2 * count` indices.
+unsafe fn read_feature_edges(edges: *const u32, count: usize) -> Result<Vec<[u32; 2]>, FfiError> {
+    let len = checked_count(count, 2, "feature_edge_count * 2")?;
+    // SAFETY: the caller guarantees `edges` holds `2 * count` indices.
+    let flat = unsafe { checked_slice(edges, len, "feature_edges") }?;
+    let mut out = try_with_capacity(count, "feature edges")?;
+    out.extend(flat.chunks_exact(2).map(|e| [e[0], e[1]]));
+    Ok(out)
+}
+
+/// Checks every marked feature edge against `mesh`: a vertex out of range is
+/// `QUADOPT_STATUS_INDEX_OUT_OF_RANGE`, a pair that is not an edge of the mesh
+/// `QUADOPT_STATUS_INVALID_ARGUMENT`, each naming the pair.
+pub(super) fn check_feature_edges(mesh: &SurfaceMesh, edges: &[[u32; 2]]) -> Result<(), FfiError> {
+    let n = mesh.points().len();
+    for (k, &[a, b]) in edges.iter().enumerate() {
+        if let Some(v) = [a, b].into_iter().find(|&v| v as usize >= n) {
+            return Err(FfiError::new(
+                QuadoptStatus::IndexOutOfRange,
+                format!(
+                    "feature edge {k}, vertices ({a}, {b}), refers to vertex {v}, but vertex_count is {n}"
+                ),
+            ));
+        }
+        if a == b || mesh.find_edge(a, b).is_none() {
+            return Err(FfiError::new(
+                QuadoptStatus::InvalidArgument,
+                format!(
+                    "feature edge {k}, vertices ({a}, {b}), is not an edge of the mesh (no face has \
+                     these two vertices as neighbours; vertex numbers are 0-based)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A mesh on a surface in 3D read from the caller's arrays (three doubles per vertex), with
+/// its marked feature edges (checked against the mesh). `names` are the caller's names of the
+/// face array and its count, for the messages (`quadopt_optimize()` calls them `quads` and
+/// `quad_count`).
+///
+/// # Safety
+/// As [`read_mesh`] with `dim` 3; `feature_edges` NULL with `feature_edge_count == 0`, or
+/// `2 * feature_edge_count` indices.
+#[allow(clippy::too_many_arguments)]
+pub(super) unsafe fn read_surface_mesh(
+    coords: *const f64,
+    vertex_count: usize,
+    faces: *const u32,
+    face_count: usize,
+    fixed: *const u8,
+    feature_edges: *const u32,
+    feature_edge_count: usize,
+    names: (&str, &str),
+) -> Result<(SurfaceMesh, Vec<[u32; 2]>), FfiError> {
+    let (faces_name, count_name) = names;
+    // Every check of every array first, so no array is read when another one is bad.
+    check_u32_count(vertex_count, "vertex_count")?;
+    check_u32_count(face_count, count_name)?;
+    let len = checked_count(vertex_count, 3, "vertex_count * 3")?;
+    check_array(coords, len, "coords")?;
+    check_array(faces, checked_count(face_count, 4, &format!("{count_name} * 4"))?, faces_name)?;
+    if !fixed.is_null() {
+        check_array(fixed, vertex_count, "fixed")?;
+    }
+    check_array(
+        feature_edges,
+        checked_count(feature_edge_count, 2, "feature_edge_count * 2")?,
+        "feature_edges",
+    )?;
+    // SAFETY: forwarded from this function's contract (checked above).
+    let flat = unsafe { checked_slice(coords, len, "coords") }?;
+    let mut points = try_with_capacity(vertex_count, "vertex coordinates")?;
+    points.extend(flat.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])));
+    // SAFETY: forwarded from this function's contract.
+    let faces = unsafe { read_quads(faces, face_count) }?;
+    // SAFETY: forwarded from this function's contract.
+    let fixed = unsafe { read_fixed(fixed, vertex_count) }?;
+    // SAFETY: forwarded from this function's contract.
+    let edges = unsafe { read_feature_edges(feature_edges, feature_edge_count) }?;
+    let mesh = SurfaceMesh::new(points, faces, fixed)?;
+    check_feature_edges(&mesh, &edges)?;
+    Ok((mesh, edges))
+}
+
+/// Writes x, y and z of every point into the caller's array of three doubles per vertex.
+///
+/// # Safety
+/// `coords` must be aligned and point to `points.len() * 3` writable doubles.
+pub(super) unsafe fn write_points_3d(coords: *mut f64, points: &[DVec3]) {
+    for (i, p) in points.iter().enumerate() {
+        // SAFETY: 3 * i + 2 < points.len() * 3, inside the caller's buffer; raw writes create
+        // no reference.
+        unsafe {
+            coords.add(3 * i).write(p.x);
+            coords.add(3 * i + 1).write(p.y);
+            coords.add(3 * i + 2).write(p.z);
+        }
+    }
 }
 
 /// Writes x and y of every point into the caller's strided array; z is never written.

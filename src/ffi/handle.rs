@@ -5,11 +5,31 @@ use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::smooth::Optimizer;
 
-use super::boundary::{boundary, boundary_or, read_mesh, read_points, require_non_null, write_points};
+use super::boundary::{
+    boundary, boundary_or, read_mesh, read_points, require_non_null, write_points, z_varies,
+};
 use super::options::{QuadoptOptions, convert_options, read_options};
 use super::report::{QuadoptReport, report_of, report_size, write_report};
 use super::run::{check_memory_for, run, topology_bytes};
-use super::status::QuadoptStatus;
+use super::status::{FfiError, QuadoptStatus};
+
+/// A handle optimizes planar meshes only: `dim` 3 coordinates whose z varies are
+/// `QUADOPT_STATUS_NOT_PLANAR`.
+///
+/// # Safety
+/// As `read_mesh`: `coords` holds `vertex_count * dim` doubles.
+unsafe fn refuse_curved(coords: *const f64, dim: u32, vertex_count: usize) -> Result<(), FfiError> {
+    // SAFETY: forwarded from the caller's contract.
+    if unsafe { z_varies(coords, dim, vertex_count) } {
+        return Err(FfiError::new(
+            QuadoptStatus::NotPlanar,
+            "the mesh is not planar (dim is 3 and z is not the same at every vertex); a reusable \
+             optimizer optimizes planar meshes only: optimize a mesh on a curved surface with \
+             quadopt_optimize() or quadopt_optimize_surface()",
+        ));
+    }
+    Ok(())
+}
 
 /// A reusable optimizer for one connectivity (quads, fixed flags, vertex count), built once
 /// by `quadopt_optimizer_create()` and immutable afterwards: several threads may call
@@ -23,8 +43,11 @@ pub struct QuadoptOptimizer {
 }
 
 /// Creates a reusable optimizer for one connectivity: validates the mesh (arrays as in
-/// `quadopt_optimize()`) and builds its topology once. The orientation and the fixed flags are
-/// taken from this call. On success `*out` receives the handle (free it with
+/// `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only:
+/// `dim` 3 coordinates whose z varies are `QUADOPT_STATUS_NOT_PLANAR` (here and in
+/// `quadopt_optimizer_optimize()`; use `quadopt_optimize()` or `quadopt_optimize_surface()`
+/// for a mesh on a curved surface). The orientation and the fixed flags are taken from this
+/// call. On success `*out` receives the handle (free it with
 /// `quadopt_optimizer_free()`); on error `*out` is not written.
 ///
 /// # Safety
@@ -43,6 +66,8 @@ pub unsafe extern "C" fn quadopt_optimizer_create(
         require_non_null(out.cast_const(), "out")?;
         // SAFETY: forwarded from this function's contract.
         let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
+        // SAFETY: the arrays were checked by read_mesh.
+        unsafe { refuse_curved(coords, dim, vertex_count) }?;
         check_memory_for(topology_bytes(&mesh), "the mesh's topology")?;
         let optimizer = Optimizer::new(&mesh);
         let handle = Box::into_raw(Box::new(QuadoptOptimizer { mesh, optimizer }));
@@ -84,6 +109,8 @@ pub unsafe extern "C" fn quadopt_optimizer_optimize(
         }
         // SAFETY: forwarded from this function's contract.
         let points = unsafe { read_points(coords, dim, vertex_count) }?;
+        // SAFETY: the array was checked by read_points.
+        unsafe { refuse_curved(coords, dim, vertex_count) }?;
         let mut mesh = handle.mesh.try_clone()?;
         mesh.set_points(&points)?;
         let (mesh, r) = run(Some(&handle.optimizer), mesh, &o)?;

@@ -41,6 +41,8 @@
 //!   `quadopt_report_init`;
 //! - `run.rs`: a run on the worker pool with the C progress callback, the memory checks before
 //!   it, `quadopt_optimize` and `quadopt_quality`;
+//! - `surface.rs`: meshes on curved surfaces in 3D: `quadopt_optimize_surface` and the surface
+//!   run `quadopt_optimize` takes for a `dim` 3 mesh whose z varies;
 //! - `handle.rs`: the reusable `QuadoptOptimizer` and its functions;
 //! - `version.rs`: the version constants and functions;
 //! - `quiet.rs`: the panic hook that keeps caught panics off the host's stderr.
@@ -74,6 +76,8 @@ mod report;
 
 mod run;
 
+mod surface;
+
 mod handle;
 
 mod version;
@@ -94,6 +98,7 @@ pub use options::{
 pub use report::{QuadoptFaceKindQuality, QuadoptQuality, QuadoptReport, quadopt_report_init};
 pub use run::{quadopt_optimize, quadopt_quality, run_bytes, topology_bytes};
 pub use status::{QuadoptStatus, quadopt_last_error, quadopt_status_string};
+pub use surface::quadopt_optimize_surface;
 pub use version::{
     QUADOPT_VERSION_MAJOR, QUADOPT_VERSION_MINOR, QUADOPT_VERSION_PATCH, quadopt_version,
     quadopt_version_numbers,

@@ -4,6 +4,7 @@
 
 use crate::quality::{ByFaceKind, QualityStats};
 use crate::smooth::{BoundaryMode, Report};
+use crate::surface::SurfaceReport;
 use std::mem::size_of;
 
 use super::boundary::{boundary_or, require_non_null};
@@ -41,11 +42,20 @@ pub struct QuadoptFaceKindQuality {
 /// What an optimization did. Growable: set `struct_size` (`quadopt_report_init()` does); the
 /// library writes only the first `struct_size` bytes (at most its own struct) and, on success,
 /// sets `struct_size` to the number of bytes it filled. Every size a published header declared
-/// is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, and 248 (0.2,
-/// ending after `reserved2`, before the per-kind fields); a `struct_size` smaller than the
-/// first is `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields
-/// (`input`, `output`, `sweeps`) cover every face; the per-kind fields at the end split
-/// `input` and `output` into the quads and the triangles.
+/// is accepted, from the first (200 bytes on LP64, ending before `max_min`) on, 248 (0.2,
+/// ending after `reserved2`, before the per-kind fields) and 344 (ending after
+/// `output_triangles`, before the surface fields); a `struct_size` smaller than the first is
+/// `QUADOPT_STATUS_INVALID_ARGUMENT`. In a mesh with triangles, the quality fields (`input`,
+/// `output`, `sweeps`) cover every face; the per-kind fields split `input` and `output` into
+/// the quads and the triangles.
+///
+/// A run on a surface (`surface` is 1) fills the fields as follows: `input`, `output`,
+/// `sweeps` and the per-kind fields give the signed measure (each corner against the surface's
+/// normal, so a face folded over is inverted) and `input_verdict`, `output_verdict` Verdict's
+/// 3D one; `corners` counts the feature corners (never moved); `converged` is 1 when the sweeps
+/// stopped before their cap; `initial_energy`, `final_energy` and `hausdorff` (and its
+/// relative value) are NaN (not computed on a surface); `max_boundary_deviation` (and its
+/// relative value) equals `max_feature_distance`; the three `loops_*` counts are 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct QuadoptReport {
@@ -111,6 +121,37 @@ pub struct QuadoptReport {
     pub output_quads: QuadoptFaceKindQuality,
     /// `output` over the triangles alone (`count` 0 and NaN `min` and `avg` for a quad mesh).
     pub output_triangles: QuadoptFaceKindQuality,
+    /// 1 when the mesh was optimized on its surface in 3D (`quadopt_optimize_surface()`, or
+    /// `quadopt_optimize()` with `dim` 3 and a z that varies), 0 for a planar run. Added with
+    /// surface support: written only when the caller's `struct_size` covers it (as for every
+    /// field below).
+    pub surface: u32,
+    /// Reserved; written as 0.
+    pub reserved3: u32,
+    /// Verdict's 3D scaled Jacobian of the input (what VTK's vtkMeshQuality reports: each
+    /// corner against the face's own centre normal, so blind to a face folded over). On a
+    /// surface, `input` is the signed measure the optimizer ranks by (each corner against the
+    /// surface's normal there). In a planar run, equal to `input`.
+    pub input_verdict: QuadoptQuality,
+    /// Verdict's 3D scaled Jacobian of the output (in a planar run, equal to `output`).
+    pub output_verdict: QuadoptQuality,
+    /// On a surface: the largest distance of a vertex from the input surface. 0 in a planar
+    /// run (every vertex stays in the mesh's plane).
+    pub max_distance: f64,
+    /// `max_distance` divided by the input's mean edge length.
+    pub max_distance_relative: f64,
+    /// On a surface: the largest distance of a vertex on a feature curve (the boundary, a sharp
+    /// or a marked edge) from that curve's original polyline. In a planar run, equal to
+    /// `max_boundary_deviation` (the boundary is the planar run's only curve).
+    pub max_feature_distance: f64,
+    /// `max_feature_distance` divided by the input's mean edge length.
+    pub max_feature_distance_relative: f64,
+    /// On a surface: the feature curves found (boundary loops, sharp and marked edges, cut at
+    /// the feature corners, which are counted in `corners`). 0 in a planar run.
+    pub feature_curves: usize,
+    /// On a surface: the smooth patches the feature curves cut the surface into. 0 in a planar
+    /// run.
+    pub patches: usize,
 }
 
 /// Size of the first published `QuadoptReport` (the same growth rule): it ended where
@@ -121,6 +162,10 @@ pub(super) const REPORT_V1_SIZE: usize = std::mem::offset_of!(QuadoptReport, max
 /// begins.
 #[cfg(test)]
 pub(super) const REPORT_V2_SIZE: usize = std::mem::offset_of!(QuadoptReport, input_quads);
+
+/// Size of the `QuadoptReport` before the surface fields: it ended where `surface` begins.
+#[cfg(test)]
+pub(super) const REPORT_V3_SIZE: usize = std::mem::offset_of!(QuadoptReport, surface);
 
 /// Reads the caller's declared report size, if a report was asked for.
 ///
@@ -210,6 +255,66 @@ pub(super) fn report_of(r: &Report) -> QuadoptReport {
         input_triangles,
         output_quads,
         output_triangles,
+        surface: 0,
+        reserved3: 0,
+        input_verdict: quality_of(&r.input),
+        output_verdict: quality_of(&r.output),
+        max_distance: 0.0,
+        max_distance_relative: 0.0,
+        max_feature_distance: r.fidelity.max_deviation,
+        max_feature_distance_relative: r.fidelity.max_deviation_relative,
+        feature_curves: 0,
+        patches: 0,
+    }
+}
+
+/// The report of a run on a surface (see [`QuadoptReport`] for the fields a planar run fills
+/// otherwise). `sweep_cap` is the run's cap on sweeps, `reoriented` the faces the mesh
+/// reversed to make its orientation consistent.
+pub(super) fn surface_report_of(r: &SurfaceReport, sweep_cap: usize, reoriented: usize) -> QuadoptReport {
+    let (input_quads, input_triangles) = kinds_of(&r.input_by_kind);
+    let (output_quads, output_triangles) = kinds_of(&r.output_by_kind);
+    let f = &r.fidelity;
+    QuadoptReport {
+        struct_size: size_of::<QuadoptReport>() as u32,
+        converged: u32::from(r.iterations < sweep_cap),
+        input: quality_of(&r.input),
+        output: quality_of(&r.output),
+        iterations: r.iterations,
+        untangle_sweeps: r.untangle_sweeps,
+        reoriented_quads: reoriented,
+        corners: r.corners,
+        movable: r.movable,
+        tangled_quads: r.output.inverted,
+        initial_energy: f64::NAN,
+        final_energy: f64::NAN,
+        seconds: r.seconds,
+        max_boundary_deviation: f.max_feature_distance,
+        hausdorff: f64::NAN,
+        max_boundary_deviation_relative: f.max_feature_distance_relative(),
+        hausdorff_relative: f64::NAN,
+        loops_slide: 0,
+        loops_snap: 0,
+        loops_fixed: 0,
+        max_min: u32::from(r.max_min.is_some()),
+        reserved1: 0,
+        sweeps: quality_of(&r.max_min.map_or(r.output, |g| g.before)),
+        effort: QuadoptEffort::of(r.effort) as u32,
+        reserved2: 0,
+        input_quads,
+        input_triangles,
+        output_quads,
+        output_triangles,
+        surface: 1,
+        reserved3: 0,
+        input_verdict: quality_of(&r.input_verdict),
+        output_verdict: quality_of(&r.output_verdict),
+        max_distance: f.max_distance,
+        max_distance_relative: f.max_distance_relative(),
+        max_feature_distance: f.max_feature_distance,
+        max_feature_distance_relative: f.max_feature_distance_relative(),
+        feature_curves: r.feature_curves,
+        patches: r.patches,
     }
 }
 
@@ -267,7 +372,7 @@ mod tests {
 
     #[test]
     fn older_report_sizes_are_filled_by_prefix_and_get_no_per_kind_fields() {
-        for size in [REPORT_V1_SIZE, REPORT_V2_SIZE] {
+        for size in [REPORT_V1_SIZE, REPORT_V2_SIZE, REPORT_V3_SIZE] {
             let (coords, quads) = patch(2);
             let mut report = QuadoptReport { struct_size: size as u32, ..sentinel_report() };
             report.input_quads.count = 0xDEAD;
@@ -331,7 +436,10 @@ mod tests {
         // of the prefix protocol never copy padding, and as a guard against reordering).
         if size_of::<usize>() == 8 {
             assert_eq!(size_of::<QuadoptOptions>(), 96);
-            assert_eq!(size_of::<QuadoptReport>(), 344);
+            assert_eq!(size_of::<QuadoptReport>(), 464);
+            assert_eq!(REPORT_V3_SIZE, 344, "the report before the surface fields");
+            assert_eq!(std::mem::offset_of!(QuadoptReport, input_verdict), 352);
+            assert_eq!(std::mem::offset_of!(QuadoptReport, patches), 456);
             assert_eq!(size_of::<QuadoptFaceKindQuality>(), 24);
             assert_eq!(REPORT_V2_SIZE, 248, "0.2's report");
             assert_eq!(std::mem::offset_of!(QuadoptReport, output_triangles), 320);

@@ -11,10 +11,12 @@ use crate::quiet_threads;
 use crate::smooth::{Optimizer, Progress, Report};
 use std::mem::size_of;
 
-use super::boundary::{boundary, check_bytes, read_mesh, require_non_null, write_points};
+use super::boundary::{boundary, check_bytes, read_mesh, require_non_null, write_points, z_varies};
 use super::options::{QuadoptOptions, QuadoptProgress, convert_options, read_options};
 use super::report::{QuadoptQuality, QuadoptReport, quality_of, report_of, report_size, write_report};
 use super::status::{FfiError, QuadoptStatus};
+use super::surface::{optimize_surface, surface_quality_values};
+use std::ptr::null;
 
 /// Peak bytes of building the optimizer, per vertex or quad (whichever is more) and fixed:
 /// measured by tests/memory.rs at up to about 56 per element, 97 for a mesh large enough
@@ -118,10 +120,16 @@ pub(super) fn run(
     Ok((mesh, report))
 }
 
-/// Optimizes a mesh in place: moves the vertices (x and y of each; z, if `dim` is 3, is never
-/// written) to raise the quads' scaled Jacobians, keeping connectivity, corners, fixed
-/// vertices and the boundary. On any error, cancellation included, neither `coords` nor
-/// `report` is written.
+/// Optimizes a mesh in place: moves the vertices to raise the faces' scaled Jacobians, keeping
+/// connectivity, corners, fixed vertices and the boundary. On any error, cancellation
+/// included, neither `coords` nor `report` is written.
+///
+/// A planar mesh (`dim` 2, or `dim` 3 with the same z at every vertex: equal, or the same
+/// bits) is optimized in the plane: x and y of each vertex move and z is never written. A
+/// `dim` 3 mesh whose z varies lies on a curved surface: it is optimized on that surface in 3D
+/// as `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a
+/// closed surface accepted; the report's `surface` is 1). A mesh in a tilted plane is such a
+/// mesh too: to optimize it in its plane, give its 2D coordinates in that plane.
 ///
 /// - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
 /// - `dim`: 2 or 3 doubles per vertex.
@@ -130,7 +138,7 @@ pub(super) fn run(
 ///   followed by `QUADOPT_NO_VERTEX` (a quad-dominant mesh: quads and triangles; triangles are
 ///   kept as triangles and their quality counts too). Faces may be given clockwise or
 ///   counter-clockwise. Each connected part
-///   of the mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
+///   of a planar mesh needs a boundary edge: a closed mesh (every vertex interior, such as a grid
 ///   whose quads wrap around) cannot lie flat in a plane without folds and is
 ///   `QUADOPT_STATUS_CLOSED_MESH`.
 /// - `fixed`: NULL (no fixed vertices) or `vertex_count` bytes, nonzero = the vertex never moves.
@@ -152,6 +160,25 @@ pub unsafe extern "C" fn quadopt_optimize(
     report: *mut QuadoptReport,
 ) -> QuadoptStatus {
     boundary("quadopt_optimize", || {
+        // SAFETY: forwarded from this function's contract (z_varies reads nothing when the
+        // arguments' checks fail).
+        if unsafe { z_varies(coords, dim, vertex_count) } {
+            // SAFETY: `dim` is 3: the contract of quadopt_optimize_surface with no marked edge.
+            return unsafe {
+                optimize_surface(
+                    coords,
+                    vertex_count,
+                    quads,
+                    quad_count,
+                    fixed,
+                    null(),
+                    0,
+                    options,
+                    report,
+                    ("quads", "quad_count"),
+                )
+            };
+        }
         // SAFETY: forwarded from this function's contract.
         let report_bytes = unsafe { report_size(report) }?;
         // SAFETY: forwarded from this function's contract.
@@ -178,6 +205,10 @@ pub unsafe extern "C" fn quadopt_optimize(
 /// `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
 /// against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
 /// image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
+/// A `dim` 3 mesh whose z varies lies on a curved surface: each face's value is then the
+/// signed measure a surface run reports as its `input` (each corner against the normal of the
+/// mesh's surface there, so a face folded over is negative; with the default feature angle and
+/// no marked edge), and a closed mesh is accepted.
 ///
 /// # Safety
 /// Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
@@ -205,9 +236,16 @@ pub unsafe extern "C" fn quadopt_quality(
             require_non_null(per_quad.cast_const(), "per_quad")?;
             check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
         }
-        // SAFETY: forwarded from this function's contract.
-        let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, std::ptr::null()) }?;
-        let values = mesh.try_quality_values()?;
+        // SAFETY: forwarded from this function's contract (z_varies reads nothing when the
+        // arguments' checks fail).
+        let values = if unsafe { z_varies(coords, dim, vertex_count) } {
+            // SAFETY: `dim` is 3, as surface_quality_values reads.
+            unsafe { surface_quality_values(coords, vertex_count, quads, quad_count) }?
+        } else {
+            // SAFETY: forwarded from this function's contract.
+            let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, std::ptr::null()) }?;
+            mesh.try_quality_values()?
+        };
         let stats = quality_of(&QualityStats::from_values(&values));
         // SAFETY: `out` is non-null and aligned (checked); `per_quad`, if non-null, is aligned
         // and holds per_quad_len >= quad_count = values.len() doubles (checked).

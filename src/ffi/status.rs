@@ -32,9 +32,9 @@ pub enum QuadoptStatus {
     IndexOutOfRange = 5,
     /// A face uses the same vertex twice.
     RepeatedVertex = 6,
-    /// An edge is shared by more than two quads.
+    /// An edge is shared by more than two faces.
     NonManifold = 7,
-    /// An x or y coordinate is NaN or infinite.
+    /// A coordinate that is read (x or y; z too on a surface) is NaN or infinite.
     NonFiniteCoordinate = 8,
     /// The quads cannot be oriented consistently (e.g. a Moebius strip).
     NonOrientable = 9,
@@ -44,7 +44,10 @@ pub enum QuadoptStatus {
     Cancelled = 11,
     /// An internal error (a bug) was caught at the API boundary.
     Panic = 12,
-    /// Reserved: the mesh is not planar. Not returned by this version (z is ignored).
+    /// The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates whose
+    /// z varies given to a reusable optimizer (`quadopt_optimizer_create()`,
+    /// `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on its surface
+    /// instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses it too.
     NotPlanar = 13,
     /// Not enough memory (or threads) for this mesh: an allocation that grows with the input
     /// failed, the memory the optimizer needs at its peak was not available when checked before
@@ -54,6 +57,7 @@ pub enum QuadoptStatus {
     /// The mesh, or a connected part of it, is closed: it has no boundary edge (every vertex
     /// is interior, as in a periodic grid whose quads wrap around). A closed surface cannot lie
     /// flat in a plane without folds, so it has no orientation that makes every quad valid.
+    /// (Only planar runs refuse it: on a surface in 3D a closed mesh is accepted.)
     ClosedMesh = 15,
 }
 

@@ -18,8 +18,9 @@ pub(super) fn patch(dim: usize) -> (Vec<f64>, Vec<u32>) {
             coords.push(i as f64);
             coords.push(j as f64);
             if dim == 3 {
-                // A z that is not even a number: it must be neither read nor written.
-                coords.push(f64::from_bits(0x7ff8_dead_beef_0000 + (3 * j + i) as u64));
+                // A z that is not even a number, the same NaN at every vertex: a planar mesh
+                // (its z never changes), whose z must be neither used nor written.
+                coords.push(f64::from_bits(0x7ff8_dead_beef_0000));
             }
         }
     }

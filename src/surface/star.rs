@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3};
 use super::patches::{OnPatch, Patches, corner_vertices};
 use super::tracks::{Slot, Tracks};
 use crate::face::Face;
-use crate::quality3d::signed_scaled_jacobian;
+use crate::quality3d::signed_scaled_jacobian_unit;
 use crate::topology::Topology;
 
 /// Most patches a moving vertex may touch (a vertex on a feature curve touches two; one at
@@ -136,7 +136,7 @@ impl Surface<'_> {
                 }
             }
         }
-        signed_scaled_jacobian(&q, &n)
+        signed_scaled_jacobian_unit(&q, &n)
     }
 
     /// The score of `v`'s star, with `v` at `at` (else where it is).

@@ -256,10 +256,20 @@ pub struct QuadoptReport {
     pub input_triangles: QuadoptFaceKindQuality,
     pub output_quads: QuadoptFaceKindQuality,
     pub output_triangles: QuadoptFaceKindQuality,
+    pub surface: u32,
+    pub reserved3: u32,
+    pub input_verdict: QuadoptQuality,
+    pub output_verdict: QuadoptQuality,
+    pub max_distance: f64,
+    pub max_distance_relative: f64,
+    pub max_feature_distance: f64,
+    pub max_feature_distance_relative: f64,
+    pub feature_curves: usize,
+    pub patches: usize,
 }
 #[allow(clippy::unnecessary_operation, clippy::identity_op)]
 const _: () = {
-    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 344usize];
+    ["Size of QuadoptReport"][::std::mem::size_of::<QuadoptReport>() - 464usize];
     ["Alignment of QuadoptReport"][::std::mem::align_of::<QuadoptReport>() - 8usize];
     [
         "Offset of field: QuadoptReport::struct_size",
@@ -348,6 +358,36 @@ const _: () = {
     [
         "Offset of field: QuadoptReport::output_triangles",
     ][::std::mem::offset_of!(QuadoptReport, output_triangles) - 320usize];
+    [
+        "Offset of field: QuadoptReport::surface",
+    ][::std::mem::offset_of!(QuadoptReport, surface) - 344usize];
+    [
+        "Offset of field: QuadoptReport::reserved3",
+    ][::std::mem::offset_of!(QuadoptReport, reserved3) - 348usize];
+    [
+        "Offset of field: QuadoptReport::input_verdict",
+    ][::std::mem::offset_of!(QuadoptReport, input_verdict) - 352usize];
+    [
+        "Offset of field: QuadoptReport::output_verdict",
+    ][::std::mem::offset_of!(QuadoptReport, output_verdict) - 384usize];
+    [
+        "Offset of field: QuadoptReport::max_distance",
+    ][::std::mem::offset_of!(QuadoptReport, max_distance) - 416usize];
+    [
+        "Offset of field: QuadoptReport::max_distance_relative",
+    ][::std::mem::offset_of!(QuadoptReport, max_distance_relative) - 424usize];
+    [
+        "Offset of field: QuadoptReport::max_feature_distance",
+    ][::std::mem::offset_of!(QuadoptReport, max_feature_distance) - 432usize];
+    [
+        "Offset of field: QuadoptReport::max_feature_distance_relative",
+    ][::std::mem::offset_of!(QuadoptReport, max_feature_distance_relative) - 440usize];
+    [
+        "Offset of field: QuadoptReport::feature_curves",
+    ][::std::mem::offset_of!(QuadoptReport, feature_curves) - 448usize];
+    [
+        "Offset of field: QuadoptReport::patches",
+    ][::std::mem::offset_of!(QuadoptReport, patches) - 456usize];
 };
 unsafe extern "C" {
     pub fn quadopt_status_string(status: i32) -> *const ::std::os::raw::c_char;
@@ -386,6 +426,19 @@ unsafe extern "C" {
         out: *mut QuadoptQuality,
         per_quad: *mut f64,
         per_quad_len: usize,
+    ) -> QuadoptStatus;
+}
+unsafe extern "C" {
+    pub fn quadopt_optimize_surface(
+        coords: *mut f64,
+        vertex_count: usize,
+        faces: *const u32,
+        face_count: usize,
+        fixed: *const u8,
+        feature_edges: *const u32,
+        feature_edge_count: usize,
+        options: *const QuadoptOptions,
+        report: *mut QuadoptReport,
     ) -> QuadoptStatus;
 }
 unsafe extern "C" {

@@ -35,7 +35,7 @@ static void patch(double coords[27]) {
         for (i = 0; i < 3; i++) {
             coords[3 * (3 * j + i) + 0] = i;
             coords[3 * (3 * j + i) + 1] = j;
-            coords[3 * (3 * j + i) + 2] = 100.0 + (3 * j + i);
+            coords[3 * (3 * j + i) + 2] = 100.0; /* planar: the same z everywhere */
         }
     }
     coords[12] = 1.6;
@@ -123,7 +123,7 @@ int main(void) {
     CHECK(status == QUADOPT_STATUS_OK);
     CHECK(fabs(coords[12] - 1.0) < 1e-3 && fabs(coords[13] - 1.0) < 1e-3);
     for (v = 0; v < 9; v++) {
-        CHECK(coords[3 * v + 2] == 100.0 + v);
+        CHECK(coords[3 * v + 2] == 100.0);
     }
     CHECK(report.struct_size == sizeof(QuadoptReport));
     CHECK(report.input.inverted == 1 && report.output.inverted == 0 && report.output.min > 0.999);
@@ -200,6 +200,34 @@ int main(void) {
           QUADOPT_STATUS_MISMATCH);
     quadopt_optimizer_free(handle);
     quadopt_optimizer_free(NULL);
+
+    /* A curved patch: the same quads on the cylinder y^2 + z^2 = 16 (z = sqrt(16 - y^2)), the
+       centre pushed off; optimized on its surface, every vertex stays on it (within the
+       faceting) and the corners do not move. */
+    patch(coords);
+    for (v = 0; v < 9; v++) {
+        coords[3 * v + 2] = sqrt(16.0 - coords[3 * v + 1] * coords[3 * v + 1]);
+    }
+    memcpy(before, coords, sizeof coords);
+    CHECK(quadopt_options_init(&options, sizeof options) == QUADOPT_STATUS_OK);
+    report = quadopt_report_init();
+    CHECK(quadopt_optimize_surface(coords, 9, QUADS, 4, NULL, NULL, 0, &options, &report) ==
+          QUADOPT_STATUS_OK);
+    CHECK(report.surface == 1 && report.output.min > report.input.min);
+    CHECK(report.max_distance < 1e-9 && report.corners == 4);
+    for (v = 0; v < 9; v++) {
+        double r = sqrt(coords[3 * v + 1] * coords[3 * v + 1] + coords[3 * v + 2] * coords[3 * v + 2]);
+        CHECK(r <= 4.0 + 1e-12 && r > 3.8);
+    }
+    CHECK(memcmp(coords, before, 3 * sizeof(double)) == 0);
+    {
+        const uint32_t not_an_edge[2] = {0, 4};
+        memcpy(coords, before, sizeof coords);
+        CHECK(quadopt_optimize_surface(coords, 9, QUADS, 4, NULL, not_an_edge, 1, NULL, NULL) ==
+              QUADOPT_STATUS_INVALID_ARGUMENT);
+        CHECK(strstr(quadopt_last_error(), "feature edge 0, vertices (0, 4)") != NULL);
+        CHECK(memcmp(coords, before, sizeof coords) == 0);
+    }
 
     if (failures == 0) {
         printf("ok\n");

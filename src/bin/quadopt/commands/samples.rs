@@ -7,8 +7,8 @@ use crate::plural::count;
 use crate::progress::{run, run_surface};
 use quadopt::io::Format;
 use quadopt::quality::ByFaceKind;
-use quadopt::surface::{SurfaceOptimizer, SurfaceReport};
-use quadopt::{Optimizer, Options, QualityStats, Report};
+use quadopt::surface::SurfaceOptimizer;
+use quadopt::{Optimizer, Options, QualityStats};
 use std::path::{Path, PathBuf};
 
 /// The bundled sample meshes: `data/` of the crate, else `./data`.
@@ -66,41 +66,35 @@ pub fn run_data_dir() -> Result<(), Fail> {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let result = load_input(path, &[]).and_then(|input| match input {
             Input::Planar(Loaded { data, mut planar }) => {
-                let report = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
-                Ok(Run::Planar(data, report))
+                let r = run(&Optimizer::new(&planar.mesh), &mut planar.mesh, &options, true)?;
+                Ok((
+                    data,
+                    Row {
+                        input: r.input,
+                        output: r.output,
+                        kinds: (r.input_by_kind, r.output_by_kind),
+                        iterations: r.iterations,
+                        seconds: r.seconds,
+                    },
+                    None,
+                ))
             }
             Input::Curved(Curved { data, mut surface }) => {
                 let optimizer = SurfaceOptimizer::new(&surface, options.feature_angle_deg, &[])
                     .map_err(|e| Fail::Other(e.to_string()))?;
-                Ok(Run::Surface(data, run_surface(&optimizer, &mut surface, &options, true)?))
+                let r = run_surface(&optimizer, &mut surface, &options, true)?;
+                let row = Row {
+                    input: r.input,
+                    output: r.output,
+                    kinds: (r.input_by_kind, r.output_by_kind),
+                    iterations: r.iterations,
+                    seconds: r.seconds,
+                };
+                Ok((data, row, Some((r.fidelity.max_distance_relative(), r.output_verdict))))
             }
         });
         match result {
-            // On a curved surface: the signed measure, and the largest distance from the input
-            // surface relative to the mean edge on a line of its own.
-            Ok(Run::Surface(data, r)) => {
-                let (i, o) = (&r.input, &r.output);
-                outln!(
-                    "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
-                    data.points.len(),
-                    data.quads.len(),
-                    i.min,
-                    i.avg,
-                    i.max,
-                    o.min,
-                    o.avg,
-                    o.max,
-                    i.inverted,
-                    o.inverted,
-                    r.iterations,
-                    r.seconds
-                );
-                if r.input_by_kind.triangle_count > 0 {
-                    print_kinds(&r.input_by_kind, &r.output_by_kind);
-                }
-                surfaces.push((name, r.fidelity.max_distance_relative(), r.output_verdict));
-            }
-            Ok(Run::Planar(data, r)) => {
+            Ok((data, r, surface)) => {
                 let (i, o) = (&r.input, &r.output);
                 outln!(
                     "{name:28} {:>7} {:>7}  {:>7.3} {:>7.3} {:>7.3}  {:>7.3} {:>7.3} {:>7.3}  {:>4}->{:<4} {:>6} {:>8.3}",
@@ -118,8 +112,13 @@ pub fn run_data_dir() -> Result<(), Fail> {
                     r.seconds
                 );
                 // A mesh with triangles: a row per face kind under the mesh's (its count under #F).
-                if r.input_by_kind.triangle_count > 0 {
-                    print_kinds(&r.input_by_kind, &r.output_by_kind);
+                if r.kinds.0.triangle_count > 0 {
+                    print_kinds(&r.kinds.0, &r.kinds.1);
+                }
+                // On a curved surface: the output's Verdict minimum and distance from the input
+                // surface, under the table.
+                if let Some((distance, verdict)) = surface {
+                    surfaces.push((name, distance, verdict));
                 }
             }
             Err(Fail::Usage(m) | Fail::Other(m)) => {
@@ -172,8 +171,11 @@ fn print_kinds(input: &ByFaceKind, output: &ByFaceKind) {
 /// One face kind's statistics out of a [`ByFaceKind`].
 type KindStats = fn(&ByFaceKind) -> Option<QualityStats>;
 
-/// A sample's run: planar or on a curved surface.
-enum Run {
-    Planar(quadopt::io::MeshData, Report),
-    Surface(quadopt::io::MeshData, SurfaceReport),
+/// A sample's row: the signed statistics before and after, per face kind, the sweeps and time.
+struct Row {
+    input: QualityStats,
+    output: QualityStats,
+    kinds: (ByFaceKind, ByFaceKind),
+    iterations: usize,
+    seconds: f64,
 }

@@ -30,6 +30,16 @@ const PARALLEL_MIN: usize = 512;
 /// Untangling sweeps at most.
 const UNTANGLE_SWEEPS: usize = 20;
 
+/// Sweeps for the average after the max-min stage, per preset (they stop at the first that
+/// does not rank better).
+fn recovery_sweeps(effort: Effort) -> usize {
+    match effort {
+        Effort::Fast => 0,
+        Effort::Balanced => 3,
+        Effort::Best => 10,
+    }
+}
+
 /// Rounds of the max-min stage per preset (`best` stops earlier when a round gains nothing).
 fn max_min_rounds(effort: Effort) -> usize {
     match effort {
@@ -466,6 +476,26 @@ impl SurfaceOptimizer {
                 rounds: done,
                 seconds: t.elapsed().as_secs_f64(),
             });
+        }
+        // 4. Sweeps for the average with the floor at the minimum reached, so the stage's
+        // minimum is kept; each kept only if it ranks better (docs/surfaces.md).
+        if max_min.is_some() && !cancelled {
+            let values = self.values(&state);
+            let mut kept = (QualityStats::from_values(&values), state.clone());
+            let rule = StepRule { floor: kept.0.min.max(options.guard_floor), ..rule };
+            for _ in 0..recovery_sweeps(options.effort) {
+                let mut trial = kept.1.clone();
+                self.sweep(&mut trial, |surface, state, v, star| {
+                    if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
+                        return (None, 0.0);
+                    }
+                    moves::smoothing_move(surface, state, v, &rule, star)
+                });
+                if !consider(&trial, &mut kept, MIN_TIE) {
+                    break;
+                }
+            }
+            state = kept.1;
         }
         Run { state, input, iterations, untangle_sweeps, cancelled, max_min }
     }

@@ -1358,6 +1358,10 @@ def parse_args():
                          "data/*_mixed.vtk; Mesquite's polarMesh) instead of the quad meshes; DMO is quad-only and skipped")
     ap.add_argument("--dominance-count", action="store_true",
                     help="print only the dominance count, as one JSON line on stdout (for scripts)")
+    ap.add_argument("--surfaces", action="store_true",
+                    help="run the curved-surface set instead (tools/bench_surfaces.py: the surface samples, "
+                         "their unperturbed meshes and Mesquite's curved meshes against gmsh's Laplace2D and "
+                         "Relocate2D and OpenMesh's JacobiLaplaceSmootherT); --quadopt and --repeat apply")
     args = ap.parse_args()
     if args.json == "-" and args.dominance_count:
         ap.error("--json - and --dominance-count both want stdout")
@@ -1489,6 +1493,14 @@ def report(args, rows, record):
 
 def main():
     args = parse_args()
+    if args.surfaces:
+        cmd = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "bench_surfaces.py"),
+               "--quadopt", args.quadopt]
+        if args.repeat:
+            cmd += ["--repeat", str(args.repeat)]
+        if args.only:
+            cmd += ["--only", args.only]
+        sys.exit(subprocess.call(cmd))
     if args.from_json:
         with open(args.from_json) as f:
             record = json.load(f)

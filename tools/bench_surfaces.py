@@ -75,7 +75,7 @@ import make_samples  # noqa: E402  (the surface samples, their meshing and pertu
 GMSH_METHODS = ["Laplace2D", "Relocate2D"]
 PRESETS = ["fast", "balanced", "best"]
 OPENMESH_ITERS = [10, 100]
-MESQUITE = "/work/shared/meshes/mesquite/untangled"
+MESQUITE = os.path.join(ROOT, "..", "shared", "meshes", "mesquite", "untangled")
 MESQUITE_MESHES = ["bias-sphere-quads", "quads_on_sphere_529", "paraboloid"]
 TOL = 1e-3
 MIN_SECONDS = 1e-3
@@ -617,9 +617,9 @@ def table(rows):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quadopt", required=True, help="the quadopt binary")
-    ap.add_argument("--out", default="/work/bench-build/surf/bench", help="output directory (inputs, outputs, JSON)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "target", "bench-surfaces"), help="output directory (inputs, outputs, JSON)")
     ap.add_argument("--mesquite", default=MESQUITE, help="directory of Mesquite's untangled meshes")
-    ap.add_argument("--build", default="/work/bench-build/openmesh-jacobi", help="where the OpenMesh driver is built")
+    ap.add_argument("--build", default=os.path.join(ROOT, "target", "openmesh-jacobi"), help="where the OpenMesh driver is built")
     ap.add_argument("--repeat", type=int, default=5, help="runs per tool (the median time is reported)")
     ap.add_argument("--features", type=float, default=45.0,
                     help="OpenMesh: hold vertices on edges with a larger dihedral angle (degrees; negative: none)")

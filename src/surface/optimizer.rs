@@ -233,12 +233,12 @@ impl SurfaceOptimizer {
             crate::pool::run_with_progress(job, answer)
                 .map_err(|crate::pool::NoThreads(why)| Error::NoThreads { why })?
         };
-        let Run { state, input, iterations, untangle_sweeps, cancelled, max_min } = run;
+        let Run { state, input, input_values, iterations, untangle_sweeps, cancelled, max_min } = run;
         // Only moved vertices change: the others keep their bits (they were never written).
         mesh.set_points(&state.points)?;
         let output_values = self.values(&state);
         let output = QualityStats::from_values(&output_values);
-        let input_values = self.input_values();
+        let input_values = &input_values;
         let verdict = |points: &[DVec3]| {
             QualityStats::from_values(&crate::quality3d::verdict_values(points, &self.faces))
         };
@@ -247,7 +247,7 @@ impl SurfaceOptimizer {
             output,
             input_verdict: verdict(&self.input_points),
             output_verdict: verdict(&state.points),
-            input_by_kind: ByFaceKind::new(&self.faces, &input_values),
+            input_by_kind: ByFaceKind::new(&self.faces, input_values),
             output_by_kind: ByFaceKind::new(&self.faces, &output_values),
             iterations,
             untangle_sweeps,
@@ -259,34 +259,32 @@ impl SurfaceOptimizer {
             feature_curves: self.features.curves().len(),
             corners: self.features.roles().iter().filter(|r| **r == VertexRole::Corner).count(),
             movable: self.motion.iter().filter(|m| **m != Motion::Still).count(),
-            fidelity: self.fidelity(&state.points),
+            fidelity: self.state_fidelity(&state),
         })
     }
 
-    /// How far `points` are from the input surface and the feature vertices from their curves.
-    pub fn fidelity(&self, points: &[DVec3]) -> SurfaceFidelity {
-        let mut max_distance = 0.0f64;
-        let mut max_feature_distance = 0.0f64;
-        let surface = self.surface();
-        for (v, p) in points.iter().enumerate() {
+    /// How far a run's result is from the input surface and its feature vertices from their
+    /// curves: a free vertex's distance from its patch (the query from its last triangle), an
+    /// on-curve vertex's from its curve's segments around its arclength (the curve lies on
+    /// the surface), so each is an upper bound of the distance it reports.
+    fn state_fidelity(&self, state: &State) -> SurfaceFidelity {
+        let (mut max_distance, mut max_feature_distance) = (0.0f64, 0.0f64);
+        for (v, p) in state.points.iter().enumerate() {
             if *p == self.input_points[v] {
                 continue;
             }
-            // Every patch the vertex touches: the surface is their union.
-            let d = self
-                .topo
-                .vertex_quads(v)
-                .iter()
-                .map(|&f| {
-                    let on = surface.patches.project(surface.patches.of_face(f as usize), *p, u32::MAX);
-                    (on.point - *p).length()
-                })
-                .fold(f64::INFINITY, f64::min);
-            if d.is_finite() {
-                max_distance = max_distance.max(d);
-            }
-            if let Some(slot) = self.tracks.slot(v) {
-                max_feature_distance = max_feature_distance.max(self.tracks.track(slot.track).distance(*p));
+            match self.motion[v] {
+                Motion::Free(patch) => {
+                    let on = self.patches.project(patch, *p, state.hints[v]);
+                    max_distance = max_distance.max((on.point - *p).length());
+                }
+                Motion::Curve(slot) => {
+                    let d = self.tracks.track(slot.track).distance_near(*p, state.params[v]);
+                    max_distance = max_distance.max(d);
+                    max_feature_distance = max_feature_distance.max(d);
+                }
+                // Never moves.
+                Motion::Still => {}
             }
         }
         SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge }
@@ -497,7 +495,7 @@ impl SurfaceOptimizer {
             }
             state = kept.1;
         }
-        Run { state, input, iterations, untangle_sweeps, cancelled, max_min }
+        Run { state, input, input_values: values, iterations, untangle_sweeps, cancelled, max_min }
     }
 
     /// One sweep, colour class by colour class: each class's moves computed from the same
@@ -570,6 +568,8 @@ impl SurfaceOptimizer {
 struct Run {
     state: State,
     input: QualityStats,
+    /// The signed value of each face of the input.
+    input_values: Vec<f64>,
     iterations: usize,
     untangle_sweeps: usize,
     cancelled: bool,

@@ -53,6 +53,19 @@ impl Track {
         self.points[i] + (self.points[i + 1] - self.points[i]) * t
     }
 
+    /// The distance from `p` to the polyline's segment at arclength `s` and its two neighbours:
+    /// an upper bound of the distance to the polyline, in constant time (for a vertex placed
+    /// at `s`).
+    pub fn distance_near(&self, p: DVec3, s: f64) -> f64 {
+        let len = self.length();
+        let s = if self.closed && len > 0.0 { s.rem_euclid(len) } else { s.clamp(0.0, len) };
+        let i = self.arclength.partition_point(|&a| a <= s).clamp(1, self.points.len() - 1) - 1;
+        let last = self.points.len() - 2;
+        (i.saturating_sub(1)..=(i + 1).min(last))
+            .map(|k| (super::closest_point_on_segment(p, self.points[k], self.points[k + 1]).0 - p).length())
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The distance from `p` to the polyline.
     pub fn distance(&self, p: DVec3) -> f64 {
         self.points

@@ -360,7 +360,7 @@ fn surface_samples_are_repaired_by_every_preset() {
 fn mesquite_curved_meshes_are_improved_on_their_surfaces() {
     let Some(dir) = common::shared::mesquite("Mesquite's curved meshes") else { return };
     for name in ["bias-sphere-quads", "quads_on_sphere_529", "paraboloid"] {
-        let data = quadopt::io::read_mesh(&dir.join("untangled").join(format!("{name}.vtk"))).unwrap();
+        let data = quadopt::io::read_mesh(dir.join("untangled").join(format!("{name}.vtk"))).unwrap();
         let points: Vec<DVec3> = data.points.iter().map(|&p| DVec3::from_array(p)).collect();
         for effort in Effort::ALL {
             let mut mesh = SurfaceMesh::new(points.clone(), data.quads.clone(), None).unwrap();

@@ -59,16 +59,13 @@ pub(super) fn check_memory_for(bytes: u128, what: &'static str) -> Result<(), Er
     Ok(())
 }
 
-/// Runs the optimizer (`built`, else one built here for `mesh`) on an owned mesh on the
-/// library's worker threads, calling the C progress callback on the calling thread, and
-/// returns the new positions and the report. Cancellation is an error here, so nothing is
-/// written.
-pub(super) fn run(
-    built: Option<&Optimizer>,
-    mut mesh: Mesh,
+/// Runs `job` on the library's worker threads with `o`'s C progress callback called on the
+/// calling thread: `job` gets the Rust callback to hand to the optimizer. Returns `job`'s
+/// result and the last progress the C callback saw (for a cancellation's message).
+pub(super) fn with_progress<R: Send>(
     o: &QuadoptOptions,
-) -> Result<(Mesh, Report), FfiError> {
-    let options = convert_options(o)?;
+    job: impl FnOnce(&mut dyn FnMut(&Progress) -> bool) -> Result<R, Error> + Send,
+) -> Result<(R, Option<QuadoptProgress>), FfiError> {
     let (callback, user_data) = (o.progress, o.progress_user_data);
     let mut last = None;
     let on_progress = |cp: QuadoptProgress| -> bool {
@@ -81,7 +78,7 @@ pub(super) fn run(
         unsafe { f(&cp, user_data) }
     };
     let has_callback = callback.is_some();
-    let job = |ask: &mut dyn FnMut(QuadoptProgress) -> bool| {
+    let outer = |ask: &mut dyn FnMut(QuadoptProgress) -> bool| {
         let mut forward = |p: &Progress| {
             !has_callback
                 || ask(QuadoptProgress {
@@ -93,6 +90,26 @@ pub(super) fn run(
                     energy_change: p.energy_change,
                 })
         };
+        // On a worker thread the run stays on it (and on its pool), calling `forward` there.
+        job(&mut forward)
+    };
+    let result = pool::run_with_progress(outer, on_progress)
+        .map_err(|pool::NoThreads(why)| FfiError::new(QuadoptStatus::OutOfMemory, why))?
+        .map_err(FfiError::from)?;
+    Ok((result, last))
+}
+
+/// Runs the optimizer (`built`, else one built here for `mesh`) on an owned mesh on the
+/// library's worker threads, calling the C progress callback on the calling thread, and
+/// returns the new positions and the report. Cancellation is an error here, so nothing is
+/// written.
+pub(super) fn run(
+    built: Option<&Optimizer>,
+    mut mesh: Mesh,
+    o: &QuadoptOptions,
+) -> Result<(Mesh, Report), FfiError> {
+    let options = convert_options(o)?;
+    let ((mesh, report), last) = with_progress(o, |forward| {
         // Checked on a worker, once the pool (its stacks, its allocator arenas) exists.
         let needed = run_bytes(&mesh) + built.map_or_else(|| topology_bytes(&mesh), |_| 0);
         check_memory_for(needed, "the optimizer's working memory")?;
@@ -104,10 +121,8 @@ pub(super) fn run(
                 &owned
             }
         };
-        optimizer.run(&mut mesh, &options, Some(&mut forward)).map(|report| (mesh, report))
-    };
-    let (mesh, report) = pool::run_with_progress(job, on_progress)
-        .map_err(|pool::NoThreads(why)| FfiError::new(QuadoptStatus::OutOfMemory, why))??;
+        optimizer.run(&mut mesh, &options, Some(forward)).map(|report| (mesh, report))
+    })?;
     if report.cancelled {
         let at = last.map_or(String::new(), |p| {
             format!(" at pass {} of {}, iteration {}", p.pass, p.passes, p.iteration)

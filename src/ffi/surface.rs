@@ -5,15 +5,13 @@
 
 use crate::error::Error;
 use crate::pool;
-use crate::quiet_threads;
-use crate::smooth::Progress;
 use crate::surface::{DEFAULT_FEATURE_ANGLE_DEG, SurfaceMesh, SurfaceOptimizer};
 use std::ptr::null;
 
 use super::boundary::{boundary, read_surface_mesh, write_points_3d};
-use super::options::{QuadoptOptions, QuadoptProgress, convert_options, read_options};
+use super::options::{QuadoptOptions, convert_options, read_options};
 use super::report::{QuadoptReport, report_size, surface_report_of, write_report};
-use super::run::check_memory_for;
+use super::run::{check_memory_for, with_progress};
 use super::status::{FfiError, QuadoptStatus};
 
 /// Peak bytes of building a surface optimizer and running it, per vertex or face (whichever
@@ -42,39 +40,12 @@ pub(super) fn run_surface(
     o: &QuadoptOptions,
 ) -> Result<QuadoptReport, FfiError> {
     let options = convert_options(o)?;
-    let (callback, user_data) = (o.progress, o.progress_user_data);
-    let mut last = None;
-    let on_progress = |cp: QuadoptProgress| -> bool {
-        let Some(f) = callback else { return true };
-        last = Some(cp);
-        // A panic of the caller's own Rust code (if any) is not ours to silence.
-        let _outside = quiet_threads::enter(false);
-        // SAFETY: the caller guarantees that a non-NULL `progress` is a valid function of this
-        // signature; `cp` lives for the duration of the call.
-        unsafe { f(&cp, user_data) }
-    };
-    let has_callback = callback.is_some();
-    let job = |ask: &mut dyn FnMut(QuadoptProgress) -> bool| {
-        let mut forward = |p: &Progress| {
-            !has_callback
-                || ask(QuadoptProgress {
-                    iteration: p.iteration,
-                    max_iterations: p.max_iterations,
-                    pass: p.pass,
-                    passes: p.passes,
-                    energy: p.energy,
-                    energy_change: p.energy_change,
-                })
-        };
+    let (report, last) = with_progress(o, |forward| {
         // Checked on a worker, once the pool (its stacks, its allocator arenas) exists.
         check_memory_for(surface_bytes(mesh), "the surface optimizer's working memory")?;
         let optimizer = SurfaceOptimizer::new(mesh, options.feature_angle_deg, marked)?;
-        // On a worker thread the run stays on it (and on its pool), calling `forward` there.
-        optimizer.run(mesh, &options, Some(&mut forward))
-    };
-    let report = pool::run_with_progress(job, on_progress)
-        .map_err(|pool::NoThreads(why)| FfiError::new(QuadoptStatus::OutOfMemory, why))?
-        .map_err(FfiError::from)?;
+        optimizer.run(mesh, &options, Some(forward))
+    })?;
     if report.cancelled {
         let at = last.map_or(String::new(), |p| format!(" at iteration {}", p.iteration));
         return Err(FfiError::new(

@@ -9,7 +9,7 @@ use glam::DVec3;
 use quadopt::Error;
 use quadopt::face::{self, Face, NO_VERTEX};
 use quadopt::surface::{
-    Closest, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
+    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
 };
 use rayon::prelude::*;
 
@@ -254,6 +254,100 @@ fn the_tree_finds_what_testing_every_triangle_finds_on_a_plane() {
     assert_eq!(tied.len(), 6, "{tied:?}");
     assert_eq!(c.triangle, tied[0]);
     assert_eq!(s.closest_point_from(q, tied[5]), c);
+}
+
+/// The local walk from the triangle of a point on the surface finds the closest point the
+/// exhaustive search finds, for a step of up to `step` along the triangle's plane and up to
+/// `near` off it: how the optimizer uses it, a vertex's candidate lifted from its tangent
+/// plane, walked from its triangle. (Far off the surface the distance can have several local
+/// minima, one near each triangle on the concave side; the walk finds the one of its sheet.)
+fn check_walk(points: &[DVec3], faces: &[Face], near: f64, step: f64, seed: u64) {
+    let s = ReferenceSurface::new(points, faces).unwrap();
+    let mut rng = Rng(seed);
+    for _ in 0..3000 {
+        let from = s.closest_point(points[(rng.next() % points.len() as u64) as usize] + rng.vec(0.05));
+        let n = s.triangle_normal(from.triangle).normalize();
+        let along = rng.vec(step);
+        let q = from.point + (along - n * n.dot(along)) + n * (rng.unit() * near);
+        let walked = s.closest_point_near(q, from.triangle);
+        let exact = s.closest_point_exhaustive(q);
+        assert!(
+            (walked.distance - exact.distance).abs() <= 1e-12 && (walked.point - exact.point).length() <= 1e-12,
+            "query {q} from {from:?}: walked {walked:?}, exhaustive {exact:?}"
+        );
+        assert_eq!(walked.face, s.triangle_face(walked.triangle));
+        assert_eq!(walked.distance, (q - walked.point).length());
+        // The same query gives the same answer (the optimizer's determinism rests on it).
+        assert_eq!(walked, s.closest_point_near(q, from.triangle));
+    }
+}
+
+#[test]
+fn the_walk_from_a_nearby_triangle_finds_the_closest_point_on_a_sphere_and_a_torus() {
+    // Sphere edges of about 0.1 to 0.2, torus edges of 0.05 to 0.16: steps of two edges.
+    let (points, faces) = sphere(32, 20, 1.0);
+    check_walk(&points, &faces, 0.02, 0.3, 6);
+    let (points, faces) = torus(40, 24);
+    check_walk(&points, &faces, 0.01, 0.1, 7);
+}
+
+#[test]
+fn the_walk_from_any_triangle_finds_the_closest_point_on_a_plane() {
+    // The distance to a convex planar region has no local minimum but the global one, so the
+    // walk (or, past its step limit, the tree) finds the exhaustive distance from any start:
+    // across edges, around interior vertices, and along the border and round its corners for
+    // points outside the grid.
+    let (points, faces) = grid(32, 16, false, false, |u, v| DVec3::new(u * 4.0, v * 2.0, 0.0));
+    let s = ReferenceSurface::new(&points, &faces).unwrap();
+    let mut rng = Rng(8);
+    for k in 0..4000 {
+        let q = match k % 2 {
+            0 => DVec3::new(2.0, 1.0, 0.0) + rng.vec(3.0),
+            // Near a grid vertex, where the walk goes round the vertex's fan.
+            _ => points[(rng.next() % points.len() as u64) as usize] + rng.vec(0.01),
+        };
+        let hint = (rng.next() % s.triangle_count() as u64) as u32;
+        let walked = s.closest_point_near(q, hint);
+        let exact = s.closest_point_exhaustive(q);
+        assert!((walked.distance - exact.distance).abs() <= 1e-12, "query {q} hint {hint}: {walked:?} {exact:?}");
+    }
+}
+
+#[test]
+fn the_walk_stays_on_the_sheet_it_starts_on() {
+    // Two parallel sheets 0.01 apart: a point 0.008 above the lower one, walked from a lower
+    // triangle, stays on the lower sheet (0.008 away) where the global query takes the upper
+    // one (0.002 away): a vertex on one side of a thin wall is kept on its side.
+    let (lower, lower_faces) = grid(8, 8, false, false, |u, v| DVec3::new(u, v, 0.0));
+    let (upper, upper_faces) = grid(8, 8, false, false, |u, v| DVec3::new(u, v, 0.01));
+    let n = lower.len() as u32;
+    let points: Vec<DVec3> = lower.iter().chain(&upper).copied().collect();
+    let faces: Vec<Face> =
+        lower_faces.iter().copied().chain(upper_faces.iter().map(|f| f.map(|v| v + n))).collect();
+    let s = ReferenceSurface::new(&points, &faces).unwrap();
+    let q = DVec3::new(0.43, 0.61, 0.008);
+    let global = s.closest_point(q);
+    assert!((global.distance - 0.002).abs() < 1e-12 && global.face >= 64, "{global:?}");
+    let lower_start = s.closest_point(DVec3::new(0.05, 0.05, -0.1)).triangle;
+    let walked = s.closest_point_near(q, lower_start);
+    assert!((walked.distance - 0.008).abs() < 1e-12 && walked.face < 64, "{walked:?}");
+    assert_eq!(walked.point, DVec3::new(0.43, 0.61, 0.0));
+}
+
+#[test]
+fn the_walk_without_a_triangle_to_start_from_is_the_global_query() {
+    let (points, faces) = torus(40, 24);
+    let s = ReferenceSurface::new(&points, &faces).unwrap();
+    let mut rng = Rng(9);
+    for _ in 0..500 {
+        let q = rng.vec(2.0);
+        let global = s.closest_point(q);
+        assert_eq!(s.closest_point_near(q, NO_TRIANGLE), global);
+        assert_eq!(s.closest_point_near(q, s.triangle_count() as u32), global);
+    }
+    // A point that is not finite gives what the global query gives for it, never a panic.
+    let nan = DVec3::new(f64::NAN, 0.0, 0.0);
+    assert_eq!(format!("{:?}", s.closest_point_near(nan, 3)), format!("{:?}", s.closest_point(nan)));
 }
 
 #[test]

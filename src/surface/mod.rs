@@ -3,7 +3,8 @@
 //!
 //! [`ReferenceSurface`] is the input surface, triangulated and frozen for a run, with a
 //! bounding-volume hierarchy over its triangles and an exact closest-point query
-//! ([`ReferenceSurface::closest_point`]). The point-triangle and point-segment routines it is
+//! ([`ReferenceSurface::closest_point`]), and a local walk over its triangles for a point that
+//! moved a little from a known triangle ([`ReferenceSurface::closest_point_near`]). The point-triangle and point-segment routines it is
 //! built on are public too: [`closest_point_on_triangle`], [`closest_point_on_segment`].
 //!
 //! [`SurfaceOptimizer`] runs the planar method on a surface: feature curves cut the input
@@ -30,6 +31,6 @@ pub use features::{
 pub use mesh::{NO_FACE, SurfaceComponent, SurfaceEdge, SurfaceMesh, face_vector_area};
 pub use optimizer::SurfaceOptimizer;
 pub use reference::{
-    Closest, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
+    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
 };
 pub use report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};

@@ -73,26 +73,30 @@ pub fn smoothing_move(
         };
         let first = free_move(surface, state, v, rule, star, (chart, here), target);
         if !rule.with_laplacian {
-            return (first, ep.energy);
+            return (first.map(|(p, _)| p), ep.energy);
         }
         let lap = laplacian::uniform_target(&star.points, &star.ring);
         let second = free_move(surface, state, v, rule, star, (chart, here), lap);
         let take_second = match (&first, &second) {
             (_, None) => false,
             (None, Some(_)) => true,
-            (Some(a), Some(b)) => {
-                let (a, b) = (surface.star_score(state, v, Some(a)), surface.star_score(state, v, Some(b)));
+            (Some((a, sa)), Some((b, sb))) => {
+                // The guard scored what it accepted; only an unguarded step is scored here.
+                let a = sa.unwrap_or_else(|| surface.star_score(state, v, Some(a)));
+                let b = sb.unwrap_or_else(|| surface.star_score(state, v, Some(b)));
                 // Both above the floor: the better average; else the better star.
                 let above = |s: &Score| s.inverted == 0 && s.min >= rule.floor;
                 if above(&a) && above(&b) { b.sum > a.sum } else { b.better_than(&a) }
             }
         };
-        return (if take_second { second } else { first }, ep.energy);
+        let chosen = if take_second { second } else { first };
+        return (chosen.map(|(p, _)| p), ep.energy);
     }
     (curve_or_still_move(surface, state, v, rule), 0.0)
 }
 
-/// The guarded step of free vertex `v` towards chart position `target`.
+/// The guarded step of free vertex `v` towards chart position `target`, with its star's score
+/// when the guard computed it.
 fn free_move(
     surface: &Surface,
     state: &State,
@@ -101,7 +105,7 @@ fn free_move(
     star: &LocalStar,
     (chart, here): (Chart, Placed),
     target: DVec2,
-) -> Option<Placed> {
+) -> Option<(Placed, Option<Score>)> {
     match surface.motion[v] {
         Motion::Still | Motion::Curve(_) => None,
         Motion::Free(patch) => {
@@ -111,25 +115,27 @@ fn free_move(
             }
             let place = |x: DVec2| surface.place_free(patch, chart.lift(x), here.hint);
             if !rule.guard {
-                return Some(place(step));
+                return Some((place(step), None));
             }
+            let scored = |candidate: Placed, score: Score| moved(candidate, &here).map(|p| (p, Some(score)));
             // A target at or above the floor is acceptable whatever the current star (as in the
             // plane), so the current star is scored only when needed.
             let first = place(step);
             let first_score = surface.star_score(state, v, Some(&first));
             if first_score.inverted == 0 && first_score.min >= rule.floor {
-                return moved(first, &here);
+                return scored(first, first_score);
             }
             let current = surface.star_score(state, v, None);
             if guard_accepts(&first_score, &current, rule.floor) {
-                return moved(first, &here);
+                return scored(first, first_score);
             }
             let mut s = step;
             for _ in 0..MAX_HALVINGS {
                 s *= 0.5;
                 let candidate = place(s);
-                if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
-                    return moved(candidate, &here);
+                let score = surface.star_score(state, v, Some(&candidate));
+                if guard_accepts(&score, &current, rule.floor) {
+                    return scored(candidate, score);
                 }
             }
             if current.min >= PERFECT {
@@ -137,7 +143,7 @@ fn free_move(
             }
             // Stuck: the direction that raises the star's smallest corner in the chart, the
             // longest step along it that makes the star strictly better on the surface.
-            untangling_move(surface, state, v, star, (&chart, &here), &current)
+            untangling_move(surface, state, v, star, (&chart, &here), &current).map(|(p, s)| (p, Some(s)))
         }
     }
 }
@@ -195,14 +201,15 @@ fn untangling_move(
     star: &LocalStar,
     (chart, here): (&Chart, &Placed),
     current: &Score,
-) -> Option<Placed> {
+) -> Option<(Placed, Score)> {
     let Motion::Free(patch) = surface.motion[v] else { return None };
     let target = crate::smooth::untangle::untangle_star(&star.points, &star.faces, 0)?;
     let mut s = target;
     for _ in 0..=MAX_HALVINGS {
         let candidate = surface.place_free(patch, chart.lift(s), here.hint);
-        if surface.star_score(state, v, Some(&candidate)).better_than(current) {
-            return moved(candidate, here);
+        let score = surface.star_score(state, v, Some(&candidate));
+        if score.better_than(current) {
+            return moved(candidate, here).map(|p| (p, score));
         }
         s *= 0.5;
     }
@@ -220,7 +227,7 @@ pub fn untangle_move(surface: &Surface, state: &State, v: usize, star: &mut Loca
         Motion::Still => None,
         Motion::Free(_) => {
             let (chart, here) = chart_of(surface, state, v, star);
-            untangling_move(surface, state, v, star, (&chart, &here), &current)
+            untangling_move(surface, state, v, star, (&chart, &here), &current).map(|(p, _)| p)
         }
         Motion::Curve(slot) => curve_search(surface, state, v, slot, &current),
     }

@@ -10,7 +10,7 @@ use super::features::{SurfaceFeatures, VertexRole};
 use super::mesh::SurfaceMesh;
 use super::moves::{self, StepRule};
 use super::patches::{Patches, corner_vertices};
-use super::reference::ReferenceSurface;
+use super::reference::{NO_TRIANGLE, ReferenceSurface};
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
 use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
 use super::tracks::Tracks;
@@ -182,9 +182,20 @@ impl SurfaceOptimizer {
         State {
             points: self.input_points.clone(),
             params: self.tracks.initial_params(),
-            hints: vec![u32::MAX; self.input_points.len()],
+            hints: self.initial_hints(),
             normals: self.patches.input_corner_normals().to_vec(),
         }
+    }
+
+    /// Each free vertex's triangle at the input: one of its patch's reference triangles it is a
+    /// corner of, where its first projection walks from.
+    fn initial_hints(&self) -> Vec<u32> {
+        (0..self.input_points.len())
+            .map(|v| match (self.motion[v], self.topo.vertex_quads(v).first()) {
+                (Motion::Free(_), Some(&f)) => self.patches.triangle_at(f as usize, v as u32),
+                _ => NO_TRIANGLE,
+            })
+            .collect()
     }
 
     /// Optimizes `mesh`, which must have the faces and the positions this optimizer was built
@@ -312,7 +323,7 @@ impl SurfaceOptimizer {
                         let k = corner_vertices(face).iter().position(|&w| w == u).unwrap_or(0);
                         self.patches.input_corner_normals()[f][k]
                     } else {
-                        self.patches.project(patch, p, u32::MAX).normal
+                        self.patches.project(patch, p, NO_TRIANGLE).normal
                     }
                 });
             }

@@ -38,6 +38,8 @@ struct Patch {
 /// The patches of a surface mesh, each with its frozen reference surface.
 pub struct Patches {
     face_patch: Vec<u32>,
+    /// Each face's first triangle in its patch's reference (a quad's second follows it).
+    face_triangle: Vec<u32>,
     patches: Vec<Patch>,
     /// One-sided normal of each face's patch at each of its corners, at the input positions
     /// (a triangle's third twice, as [`crate::quality3d::corners`] repeats its corner).
@@ -104,7 +106,14 @@ impl Patches {
             input_corner_normals.push(c.map(|v| normal_of(v, face_patch[f], fallback)));
         }
         let mut patches = Vec::with_capacity(members.len());
+        let mut face_triangle = vec![0u32; faces.len()];
         for (p, list) in members.iter().enumerate() {
+            // The reference numbers its triangles in face order, a quad's two together.
+            let mut next = 0u32;
+            for &f in list {
+                face_triangle[f as usize] = next;
+                next += if face::is_triangle(&faces[f as usize]) { 1 } else { 2 };
+            }
             let patch_faces: Vec<Face> = list.iter().map(|&f| faces[f as usize]).collect();
             let reference = ReferenceSurface::new(points, &patch_faces)?;
             let corner_normals = reference
@@ -119,7 +128,7 @@ impl Patches {
                 .collect();
             patches.push(Patch { reference, corner_normals });
         }
-        Ok(Patches { face_patch, patches, input_corner_normals })
+        Ok(Patches { face_patch, face_triangle, patches, input_corner_normals })
     }
 
     /// Number of patches.
@@ -137,11 +146,25 @@ impl Patches {
         &self.input_corner_normals
     }
 
-    /// The closest point of patch `patch` to `p` (searched from triangle `hint`) and the
+    /// The triangle of face `f`'s patch reference that has vertex `v` of `f` as a corner (a
+    /// hint for projecting `v` from where it is), or the face's first if `v` is not its vertex.
+    pub fn triangle_at(&self, f: usize, v: u32) -> u32 {
+        let first = self.face_triangle[f];
+        let reference = &self.patches[self.face_patch[f] as usize].reference;
+        let second = first + 1;
+        let own = |t: u32| (t as usize) < reference.triangle_count()
+            && reference.triangle_face(t) == reference.triangle_face(first)
+            && reference.triangles()[t as usize].contains(&v);
+        if !own(first) && own(second) { second } else { first }
+    }
+
+    /// The closest point of patch `patch` to `p` around triangle `hint` (the local walk of
+    /// [`ReferenceSurface::closest_point_near`]: a vertex stays on its own sheet), the global
+    /// closest point if `hint` is [`NO_TRIANGLE`](super::reference::NO_TRIANGLE); and the
     /// patch's normal there.
     pub fn project(&self, patch: u32, p: DVec3, hint: u32) -> OnPatch {
         let patch = &self.patches[patch as usize];
-        let c = patch.reference.closest_point_from(p, hint);
+        let c = patch.reference.closest_point_near(p, hint);
         let [a, b, d] = patch.reference.triangle_corners(c.triangle);
         let w = barycentric(c.point, a, b, d);
         let [na, nb, nd] = patch.corner_normals[c.triangle as usize];

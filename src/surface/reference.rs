@@ -64,8 +64,21 @@ pub struct ReferenceSurface {
     triangles: Vec<[u32; 3]>,
     /// The input face of each triangle.
     faces: Vec<u32>,
+    /// The triangle across each edge of each triangle (edge `k` from corner `k` to `k + 1`),
+    /// [`NO_TRIANGLE`] at a border or an edge shared by more than two triangles: what the
+    /// local walk of [`closest_point_near`](Self::closest_point_near) moves along.
+    neighbours: Vec<[u32; 3]>,
     bvh: Bvh,
 }
+
+/// No triangle: a border edge's neighbour, or a hint that is none.
+pub const NO_TRIANGLE: u32 = u32::MAX;
+
+/// Steps of the local walk before it hands the query to the tree.
+const MAX_WALK: usize = 64;
+
+/// Triangles around one vertex the local walk looks at, at most (a larger fan is cut there).
+const MAX_FAN: usize = 64;
 
 /// The angle (0 to pi) between the normals of triangles `t` and `u`; pi if either has no
 /// area.
@@ -145,7 +158,8 @@ impl ReferenceSurface {
         }
         let points = try_copy(points, "reference points")?;
         let bvh = Bvh::new(&points, &triangles)?;
-        Ok(ReferenceSurface { points, triangles, faces: of_face, bvh })
+        let neighbours = edge_neighbours(&triangles)?;
+        Ok(ReferenceSurface { points, triangles, faces: of_face, neighbours, bvh })
     }
 
     /// The vertices, as given.
@@ -211,6 +225,108 @@ impl ReferenceSurface {
         self.closest(d2, t, q)
     }
 
+    /// A closest point of the surface near triangle `hint`: from `hint`, the walk moves to the
+    /// neighbouring triangle (across the edge, or around the vertex, the point lies on; any of
+    /// the three when the point is inside the triangle) while that is strictly closer to `p`,
+    /// so it ends at a local minimum of the distance, the
+    /// closest point of the surface around where it ends. For a point that moved a little
+    /// from triangle `hint` (a vertex's candidate position) that is the closest point of the
+    /// sheet it is on, at the cost of a few point-triangle tests instead of a descent of the
+    /// tree; the global closest point may be another sheet's (a thin wall's other side). A
+    /// `hint` that is not a triangle, and a walk longer than 64 steps, take the global query
+    /// ([`closest_point_from`](Self::closest_point_from)). The answer depends only on `p` and
+    /// `hint`.
+    pub fn closest_point_near(&self, p: DVec3, hint: u32) -> Closest {
+        if !p.is_finite() {
+            return self.not_finite();
+        }
+        if hint as usize >= self.triangles.len() {
+            return self.closest_point(p);
+        }
+        let test = |t: u32| {
+            let [a, b, c] = self.triangle_corners(t);
+            let (q, region) = closest_point_on_triangle(p, a, b, c);
+            (squared_length(p - q), q, region)
+        };
+        let (mut t, (mut d2, mut q, mut region)) = (hint, test(hint));
+        let mut fan = [NO_TRIANGLE; MAX_FAN];
+        for _ in 0..MAX_WALK {
+            let corner = match region {
+                TriangleRegion::Interior => None,
+                TriangleRegion::VertexA => Some(0),
+                TriangleRegion::VertexB => Some(1),
+                TriangleRegion::VertexC => Some(2),
+                TriangleRegion::EdgeAB | TriangleRegion::EdgeBC | TriangleRegion::EdgeCA => None,
+                TriangleRegion::Degenerate => None,
+            };
+            let candidates: &[u32] = match (corner, region) {
+                (Some(k), _) => {
+                    let n = self.fan(t, self.triangles[t as usize][k], &mut fan);
+                    &fan[..n]
+                }
+                (None, TriangleRegion::EdgeAB) => &self.neighbours[t as usize][..1],
+                (None, TriangleRegion::EdgeBC) => &self.neighbours[t as usize][1..2],
+                (None, TriangleRegion::EdgeCA) => &self.neighbours[t as usize][2..],
+                // Inside the triangle, and on a degenerate one: all three neighbours. On the
+                // concave side of the surface a point projects into the interior of several
+                // triangles around its closest one, each a local minimum of its own.
+                _ => &self.neighbours[t as usize],
+            };
+            let mut next: Option<(f64, u32, DVec3, TriangleRegion)> = None;
+            for &u in candidates {
+                if u == NO_TRIANGLE || u == t {
+                    continue;
+                }
+                let (du, qu, ru) = test(u);
+                if du < next.map_or(d2, |(d, ..)| d) {
+                    next = Some((du, u, qu, ru));
+                }
+            }
+            match next {
+                Some((du, u, qu, ru)) => (d2, t, q, region) = (du, u, qu, ru),
+                // No neighbour is closer: a local minimum.
+                None => return self.closest(d2, t, q),
+            }
+        }
+        let (d2, t, q) = self.bvh.closest(p, Some((d2, t, q)));
+        self.closest(d2, t, q)
+    }
+
+    /// The triangles around vertex `x` of triangle `t` (found across the edges at `x`, so a
+    /// vertex where the surface is not a disc gives the part of its fan `t` is in), written
+    /// into `out`; returns how many.
+    fn fan(&self, t: u32, x: u32, out: &mut [u32; MAX_FAN]) -> usize {
+        out[0] = t;
+        let mut n = 1;
+        // Around one way; if that ends at a border rather than back at `t`, the other way.
+        for side in 0..2 {
+            let (mut prev, mut cur) = (NO_TRIANGLE, t);
+            loop {
+                let tri = self.triangles[cur as usize];
+                let Some(k) = tri.iter().position(|&v| v == x) else { return n };
+                // The two edges at x: k (x to the next corner) and k + 2 (the previous to x).
+                let across = self.neighbours[cur as usize];
+                let (first, second) = (across[k], across[(k + 2) % 3]);
+                let step = match prev {
+                    NO_TRIANGLE if side == 0 => first,
+                    NO_TRIANGLE => second,
+                    _ if first == prev => second,
+                    _ => first,
+                };
+                if step == t {
+                    return n;
+                }
+                if step == NO_TRIANGLE || n == MAX_FAN {
+                    break;
+                }
+                out[n] = step;
+                n += 1;
+                (prev, cur) = (cur, step);
+            }
+        }
+        n
+    }
+
     /// The closest point by testing every triangle, without the tree: the reference the tests
     /// and benchmarks compare the tree with.
     pub fn closest_point_exhaustive(&self, p: DVec3) -> Closest {
@@ -248,6 +364,35 @@ impl ReferenceSurface {
     pub fn tree_shape(&self) -> (usize, usize, usize) {
         self.bvh.shape()
     }
+}
+
+/// The triangle across each edge of each triangle ([`ReferenceSurface`]'s `neighbours`).
+fn edge_neighbours(triangles: &[[u32; 3]]) -> Result<Vec<[u32; 3]>> {
+    let mut edges: Vec<(u32, u32, u32, u8)> = try_with_capacity(triangles.len() * 3, "reference edges")?;
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            edges.push((a.min(b), a.max(b), t as u32, k as u8));
+        }
+    }
+    edges.sort_unstable();
+    let mut neighbours = try_with_capacity(triangles.len(), "reference neighbours")?;
+    neighbours.resize(triangles.len(), [NO_TRIANGLE; 3]);
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && (edges[j].0, edges[j].1) == (edges[i].0, edges[i].1) {
+            j += 1;
+        }
+        // Exactly two triangles on the edge: each other's neighbours there.
+        if j - i == 2 {
+            let ((_, _, s, ks), (_, _, u, ku)) = (edges[i], edges[i + 1]);
+            neighbours[s as usize][ks as usize] = u;
+            neighbours[u as usize][ku as usize] = s;
+        }
+        i = j;
+    }
+    Ok(neighbours)
 }
 
 /// The closest point of segment `ab` to `p`, and its parameter `t` in [0, 1] (`a + t (b - a)`).

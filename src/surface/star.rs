@@ -196,7 +196,9 @@ impl Surface<'_> {
                 continue;
             }
             if (placed.count as usize) < MAX_PATCHES {
-                let normal = self.patches.project(patch, point, u32::MAX).normal;
+                // Walked from the face's triangle at the vertex's input position.
+                let from = self.patches.triangle_at(f as usize, v as u32);
+                let normal = self.patches.project(patch, point, from).normal;
                 placed.normals[placed.count as usize] = (patch, normal);
                 placed.count += 1;
             }

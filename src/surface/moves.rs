@@ -82,8 +82,8 @@ pub fn smoothing_move(
             (None, Some(_)) => true,
             (Some((a, sa)), Some((b, sb))) => {
                 // The guard scored what it accepted; only an unguarded step is scored here.
-                let a = sa.unwrap_or_else(|| surface.star_score(state, v, Some(a)));
-                let b = sb.unwrap_or_else(|| surface.star_score(state, v, Some(b)));
+                let a = sa.unwrap_or_else(|| surface.star_score_at(state, v, star, a));
+                let b = sb.unwrap_or_else(|| surface.star_score_at(state, v, star, b));
                 // Both above the floor: the better average; else the better star.
                 let above = |s: &Score| s.inverted == 0 && s.min >= rule.floor;
                 if above(&a) && above(&b) { b.sum > a.sum } else { b.better_than(&a) }
@@ -121,7 +121,7 @@ fn free_move(
             // A target at or above the floor is acceptable whatever the current star (as in the
             // plane), so the current star is scored only when needed.
             let first = place(step);
-            let first_score = surface.star_score(state, v, Some(&first));
+            let first_score = surface.star_score_at(state, v, star, &first);
             if first_score.inverted == 0 && first_score.min >= rule.floor {
                 return scored(first, first_score);
             }
@@ -133,7 +133,7 @@ fn free_move(
             for _ in 0..MAX_HALVINGS {
                 s *= 0.5;
                 let candidate = place(s);
-                let score = surface.star_score(state, v, Some(&candidate));
+                let score = surface.star_score_at(state, v, star, &candidate);
                 if guard_accepts(&score, &current, rule.floor) {
                     return scored(candidate, score);
                 }
@@ -207,7 +207,7 @@ fn untangling_move(
     let mut s = target;
     for _ in 0..=MAX_HALVINGS {
         let candidate = surface.place_free(patch, chart.lift(s), here.hint);
-        let score = surface.star_score(state, v, Some(&candidate));
+        let score = surface.star_score_at(state, v, star, &candidate);
         if score.better_than(current) {
             return moved(candidate, here).map(|p| (p, score));
         }
@@ -298,7 +298,7 @@ pub fn max_min_move(surface: &Surface, state: &State, v: usize, star: &mut Local
                     let y = x + d * h;
                     let candidate = surface.place_free(patch, chart.lift(y), here.hint);
                     evaluations += 1;
-                    let score = surface.star_score(state, v, Some(&candidate));
+                    let score = surface.star_score_at(state, v, star, &candidate);
                     if score.better_than(&best_score) {
                         best_score = score;
                         improved = Some((y, candidate));

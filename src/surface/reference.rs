@@ -267,9 +267,14 @@ impl ReferenceSurface {
                 (None, TriangleRegion::EdgeAB) => &self.neighbours[t as usize][..1],
                 (None, TriangleRegion::EdgeBC) => &self.neighbours[t as usize][1..2],
                 (None, TriangleRegion::EdgeCA) => &self.neighbours[t as usize][2..],
-                // Inside the triangle, and on a degenerate one: all three neighbours. On the
-                // concave side of the surface a point projects into the interior of several
-                // triangles around its closest one, each a local minimum of its own.
+                // Inside the triangle: the neighbours that rise towards `p`. On the concave side
+                // of the surface a point projects into the interior of several triangles around
+                // its closest one, each a local minimum of its own.
+                (None, TriangleRegion::Interior) => {
+                    let n = self.rising_neighbours(t, p, &mut fan);
+                    &fan[..n]
+                }
+                // On a degenerate triangle: all three neighbours.
                 _ => &self.neighbours[t as usize],
             };
             let mut next: Option<(f64, u32, DVec3, TriangleRegion)> = None;
@@ -290,6 +295,32 @@ impl ReferenceSurface {
         }
         let (d2, t, q) = self.bvh.closest(p, Some((d2, t, q)));
         self.closest(d2, t, q)
+    }
+
+    /// The neighbours of triangle `t` whose third corner is strictly on the side of `t`'s
+    /// plane that `p` is on, written into `out`; returns how many. Only those can be closer to
+    /// a `p` that projects inside `t`: every point of another neighbour is at least as far
+    /// from `p` as `t`'s plane is.
+    fn rising_neighbours(&self, t: u32, p: DVec3, out: &mut [u32; MAX_FAN]) -> usize {
+        let tri = self.triangles[t as usize];
+        let [a, b, c] = self.triangle_corners(t);
+        let normal = (b - a).cross(c - a);
+        let side = normal.dot(p - a);
+        let mut n = 0;
+        for (k, &u) in self.neighbours[t as usize].iter().enumerate() {
+            if u == NO_TRIANGLE {
+                continue;
+            }
+            // u's corner off the shared edge: its three corners less the edge's two.
+            let [x, y, z] = self.triangles[u as usize];
+            let third = x.wrapping_add(y).wrapping_add(z).wrapping_sub(tri[k]).wrapping_sub(tri[(k + 1) % 3]);
+            let rise = normal.dot(self.points[third as usize] - a);
+            if (side > 0.0 && rise > 0.0) || (side < 0.0 && rise < 0.0) {
+                out[n] = u;
+                n += 1;
+            }
+        }
+        n
     }
 
     /// The triangles around vertex `x` of triangle `t` (found across the edges at `x`, so a

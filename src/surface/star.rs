@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3};
 use super::patches::{OnPatch, Patches, corner_vertices};
 use super::tracks::{Slot, Tracks};
 use crate::face::Face;
-use crate::quality3d::signed_scaled_jacobian_unit;
+use crate::quality3d::{MovingCorner, signed_scaled_jacobian_unit};
 use crate::topology::Topology;
 
 /// Most patches a moving vertex may touch (a vertex on a feature curve touches two; one at
@@ -151,6 +151,24 @@ impl Surface<'_> {
         s
     }
 
+    /// [`star_score`](Self::star_score) of `v` at `at`, from `star` built for `v` at `state`
+    /// ([`LocalStar::build`]): the same value, bit for bit, from the faces' fixed corners
+    /// computed once per star rather than once per candidate.
+    pub fn star_score_at(&self, state: &State, v: usize, star: &LocalStar, at: &Placed) -> Score {
+        debug_assert_eq!(star.global.first(), Some(&(v as u32)));
+        let mut s = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+        for (&f, corner) in self.topo.vertex_quads(v).iter().zip(&star.moving) {
+            let value = match corner {
+                Some(c) => c.value(at.point, at.normal_for(self.patches.of_face(f as usize))),
+                None => self.face_value(state, f as usize, Some((v, at))),
+            };
+            s.inverted += u32::from(value <= 0.0);
+            s.min = s.min.min(value);
+            s.sum += value;
+        }
+        s
+    }
+
     /// `v` as placed now.
     pub fn current(&self, state: &State, v: usize) -> Placed {
         let mut placed = Placed {
@@ -233,6 +251,9 @@ pub struct LocalStar {
     pub ring: Vec<u32>,
     pub full_ring: Vec<u32>,
     pub faces: Vec<Face>,
+    /// Per face of the star (in [`Topology::vertex_quads`] order), its fixed corners for
+    /// [`Surface::star_score_at`]; `None` for a triangle, which is measured in full.
+    moving: Vec<Option<MovingCorner>>,
     scratch: Vec<u32>,
 }
 
@@ -253,6 +274,7 @@ impl LocalStar {
         self.ring.clear();
         self.full_ring.clear();
         self.faces.clear();
+        self.moving.clear();
         self.local(v as u32, chart, state);
         for &u in surface.topo.ring(v) {
             let l = self.local(u, chart, state);
@@ -272,6 +294,15 @@ impl LocalStar {
                 local[k] = self.local(face[k], chart, state);
             }
             self.faces.push(local);
+            let cv = corner_vertices(&face);
+            let corner = match cv.iter().position(|&u| u as usize == v) {
+                Some(k) if !crate::face::is_triangle(&face) => {
+                    let q = cv.map(|u| state.points[u as usize]);
+                    Some(MovingCorner::new(&q, &state.normals[f as usize], k))
+                }
+                _ => None,
+            };
+            self.moving.push(corner);
         }
     }
 }

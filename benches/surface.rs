@@ -3,7 +3,8 @@
 //! - `surface/build/N`: triangulating a torus of N/2 quads and building its tree;
 //! - `surface/closest/N`, `surface/closest_from_hint/N`: 1,000 closest-point queries from
 //!   points near the surface (vertices moved by up to a third of an edge, as in a sweep),
-//!   without and with the triangle the unmoved vertex was on as the hint;
+//!   without and with the triangle the unmoved vertex was on as the hint, and
+//!   `surface/closest_near/N` the local walk from that triangle (what the optimizer runs);
 //! - `surface/closest_far/N`: 1,000 queries from anywhere in the torus's box and around it;
 //! - `surface/exhaustive/N` on a small torus: the same near queries testing every triangle,
 //!   the baseline the tree is measured against.
@@ -80,6 +81,9 @@ fn benches(c: &mut Criterion) {
     });
     group.bench_function(BenchmarkId::new("closest_from_hint", 100_000), |b| {
         b.iter(|| near.iter().map(|&(q, hint)| s.closest_point_from(q, hint).distance).sum::<f64>())
+    });
+    group.bench_function(BenchmarkId::new("closest_near", 100_000), |b| {
+        b.iter(|| near.iter().map(|&(q, hint)| s.closest_point_near(q, hint).distance).sum::<f64>())
     });
     group.bench_function(BenchmarkId::new("closest_far", 100_000), |b| {
         b.iter(|| far.iter().map(|&q| s.closest_point(q).distance).sum::<f64>())

@@ -45,6 +45,13 @@ fn check_guarantees(report: &SurfaceReport) {
     assert!(report.output.min >= report.input.min, "{report:?}");
     assert!(report.fidelity.max_distance_relative() < 1e-9, "{:?}", report.fidelity);
     assert!(report.fidelity.max_feature_distance_relative() < 1e-9, "{:?}", report.fidelity);
+    // The split by face kind describes the same faces as the totals, before and after.
+    for (kinds, total) in [(&report.input_by_kind, &report.input), (&report.output_by_kind, &report.output)] {
+        let parts: Vec<_> = [kinds.quads, kinds.triangles].into_iter().flatten().collect();
+        let inverted: usize = parts.iter().map(|p| p.inverted).sum();
+        let min = parts.iter().map(|p| p.min).fold(f64::INFINITY, f64::min);
+        assert_eq!((inverted, min), (total.inverted, total.min), "{report:?}");
+    }
 }
 
 fn perturbed_sphere(n: u32, amount: f64, seed: u64) -> SurfaceMesh {

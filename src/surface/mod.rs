@@ -21,6 +21,7 @@ mod optimizer;
 mod patches;
 mod reference;
 mod report;
+mod slack;
 mod star;
 mod tracks;
 

@@ -4,6 +4,7 @@
 
 use glam::DVec2;
 
+use super::slack::Slack;
 use super::star::{Chart, LocalStar, Motion, Placed, Score, State, Surface};
 use super::tracks::Slot;
 use crate::smooth::options::Method;
@@ -53,13 +54,15 @@ fn chart_of(surface: &Surface, state: &State, v: usize, star: &mut LocalStar) ->
 }
 
 /// The smoothing move of `v`, if it moves: its method's target in its chart (or the middle of
-/// its interval along its curve), the lambda step, then the guard.
+/// its interval along its curve), the lambda step, then the guard (its first test by
+/// `slack`'s certificate where that holds).
 pub fn smoothing_move(
     surface: &Surface,
     state: &State,
     v: usize,
     rule: &StepRule,
     star: &mut LocalStar,
+    slack: Option<&Slack>,
 ) -> (Option<Placed>, f64) {
     if let Motion::Free(_) = surface.motion[v] {
         let (chart, here) = chart_of(surface, state, v, star);
@@ -71,12 +74,12 @@ pub fn smoothing_move(
             Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
             Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
         };
-        let first = free_move(surface, state, v, rule, star, (chart, here), target);
+        let first = free_move(surface, state, v, rule, star, (chart, here), target, slack);
         if !rule.with_laplacian {
             return (first.map(|(p, _)| p), ep.energy);
         }
         let lap = laplacian::uniform_target(&star.points, &star.ring);
-        let second = free_move(surface, state, v, rule, star, (chart, here), lap);
+        let second = free_move(surface, state, v, rule, star, (chart, here), lap, slack);
         let take_second = match (&first, &second) {
             (_, None) => false,
             (None, Some(_)) => true,
@@ -92,7 +95,7 @@ pub fn smoothing_move(
         let chosen = if take_second { second } else { first };
         return (chosen.map(|(p, _)| p), ep.energy);
     }
-    (curve_or_still_move(surface, state, v, rule), 0.0)
+    (curve_or_still_move(surface, state, v, rule, slack), 0.0)
 }
 
 /// The guarded step of free vertex `v` towards chart position `target`, with its star's score
@@ -105,6 +108,7 @@ fn free_move(
     star: &LocalStar,
     (chart, here): (Chart, Placed),
     target: DVec2,
+    slack: Option<&Slack>,
 ) -> Option<(Placed, Option<Score>)> {
     match surface.motion[v] {
         Motion::Still | Motion::Curve(_) => None,
@@ -121,6 +125,9 @@ fn free_move(
             // A target at or above the floor is acceptable whatever the current star (as in the
             // plane), so the current star is scored only when needed.
             let first = place(step);
+            if slack.is_some_and(|s| s.certifies(surface, v, &first)) {
+                return moved(first, &here).map(|p| (p, None));
+            }
             let first_score = surface.star_score_at(state, v, star, &first);
             if first_score.inverted == 0 && first_score.min >= rule.floor {
                 return scored(first, first_score);
@@ -149,7 +156,13 @@ fn free_move(
 }
 
 /// The guarded step of on-curve vertex `v` towards the middle of its interval.
-fn curve_or_still_move(surface: &Surface, state: &State, v: usize, rule: &StepRule) -> Option<Placed> {
+fn curve_or_still_move(
+    surface: &Surface,
+    state: &State,
+    v: usize,
+    rule: &StepRule,
+    slack: Option<&Slack>,
+) -> Option<Placed> {
     match surface.motion[v] {
         Motion::Still | Motion::Free(_) => None,
         Motion::Curve(slot) => {
@@ -165,6 +178,9 @@ fn curve_or_still_move(surface: &Surface, state: &State, v: usize, rule: &StepRu
             }
             let here = surface.current(state, v);
             let first = surface.place_on_curve(v, slot, s0 + step);
+            if slack.is_some_and(|s| s.certifies(surface, v, &first)) {
+                return moved(first, &here);
+            }
             let first_score = surface.star_score(state, v, Some(&first));
             if first_score.inverted == 0 && first_score.min >= rule.floor {
                 return moved(first, &here);

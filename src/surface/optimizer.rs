@@ -11,6 +11,7 @@ use super::mesh::SurfaceMesh;
 use super::moves::{self, StepRule};
 use super::patches::{Patches, corner_vertices};
 use super::reference::{NO_TRIANGLE, ReferenceSurface};
+use super::slack::Slack;
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
 use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
 use super::tracks::Tracks;
@@ -151,7 +152,7 @@ impl SurfaceOptimizer {
         self.patches.count()
     }
 
-    fn surface(&self) -> Surface<'_> {
+    pub(super) fn surface(&self) -> Surface<'_> {
         Surface {
             faces: &self.faces,
             topo: &self.topo,
@@ -162,7 +163,7 @@ impl SurfaceOptimizer {
     }
 
     /// The signed scaled Jacobian of every face at `state`.
-    fn values(&self, state: &State) -> Vec<f64> {
+    pub(super) fn values(&self, state: &State) -> Vec<f64> {
         let surface = self.surface();
         let value = |f: usize| surface.face_value(state, f, None);
         if self.faces.len() >= 4 * PARALLEL_MIN {
@@ -178,7 +179,7 @@ impl SurfaceOptimizer {
         self.values(&self.initial_state())
     }
 
-    fn initial_state(&self) -> State {
+    pub(super) fn initial_state(&self) -> State {
         State {
             points: self.input_points.clone(),
             params: self.tracks.initial_params(),
@@ -388,7 +389,7 @@ impl SurfaceOptimizer {
             let mut stale = 0;
             while untangle_sweeps < UNTANGLE_SWEEPS {
                 untangle_sweeps += 1;
-                let (moved, _) = self.sweep(&mut state, |surface, state, v, star| {
+                let (moved, _) = self.sweep(&mut state, None, |surface, state, v, star, _| {
                     (moves::untangle_move(surface, state, v, star), 0.0)
                 });
                 consider(&state, &mut best, tie);
@@ -425,19 +426,27 @@ impl SurfaceOptimizer {
         let curves_move = options.boundary != BoundaryMode::Fixed;
         let movable = self.motion.iter().filter(|m| **m != Motion::Still).count();
         let mut stopper = Stopper::new(options, movable);
-        stopper.start(&QualityStats::from_values(&self.values(&state)), &best.0);
+        let start_values = self.values(&state);
+        stopper.start(&QualityStats::from_values(&start_values), &best.0);
+        // The guard's first test by certificate where it can (src/surface/slack.rs). Not with
+        // the Laplacian's candidate too: choosing between the two scores both stars anyway,
+        // and keeping the certificates up to date cost `balanced` 30% on the cube-sphere.
+        let mut slack = (options.guard && !with_laplacian).then(|| Slack::new(&surface, &state, &start_values, floor));
         let stale_limit = options.effort.stale_sweeps().filter(|_| options.stop == StopRule::Quality);
         let (mut iterations, mut stale) = (0, 0);
         while !cancelled && iterations < sweep_cap {
             iterations += 1;
-            let (moved, energy) = self.sweep(&mut state, |surface, state, v, star| {
+            let (moved, energy) = self.sweep(&mut state, slack.as_mut(), |surface, state, v, star, slack| {
                 if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
                     return (None, 0.0);
                 }
-                moves::smoothing_move(surface, state, v, &rule, star)
+                moves::smoothing_move(surface, state, v, &rule, star, slack)
             });
             let kept_before = best.0;
             let values = self.values(&state);
+            if let Some(slack) = slack.as_mut() {
+                slack.reset(&surface, &state, &values, floor);
+            }
             let stats = QualityStats::from_values(&values);
             if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
                 best = (stats, state.clone());
@@ -494,11 +503,11 @@ impl SurfaceOptimizer {
             let rule = StepRule { floor: kept.0.min.max(options.guard_floor), ..rule };
             for _ in 0..recovery_sweeps(options.effort) {
                 let mut trial = kept.1.clone();
-                self.sweep(&mut trial, |surface, state, v, star| {
+                self.sweep(&mut trial, None, |surface, state, v, star, _| {
                     if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
                         return (None, 0.0);
                     }
-                    moves::smoothing_move(surface, state, v, &rule, star)
+                    moves::smoothing_move(surface, state, v, &rule, star, None)
                 });
                 if !consider(&trial, &mut kept, MIN_TIE) {
                     break;
@@ -516,14 +525,16 @@ impl SurfaceOptimizer {
     fn sweep(
         &self,
         state: &mut State,
-        step: impl Fn(&Surface, &State, usize, &mut LocalStar) -> (Option<Placed>, f64) + Sync,
+        mut slack: Option<&mut Slack>,
+        step: impl Fn(&Surface, &State, usize, &mut LocalStar, Option<&Slack>) -> (Option<Placed>, f64) + Sync,
     ) -> (usize, f64) {
         let surface = self.surface();
         let (mut moved, mut energy) = (0, 0.0);
         for c in 0..self.topo.colour_count() {
             let class = self.topo.colour_class(c);
+            let certificates = slack.as_deref();
             let compute = |star: &mut LocalStar, &v: &u32| {
-                let (p, e) = step(&surface, state, v as usize, star);
+                let (p, e) = step(&surface, state, v as usize, star, certificates);
                 (v, p, e)
             };
             let moves: Vec<(u32, Option<Placed>, f64)> = if class.len() >= PARALLEL_MIN {
@@ -536,6 +547,9 @@ impl SurfaceOptimizer {
                 energy += e;
                 if let Some(p) = p {
                     surface.apply(state, *v as usize, p);
+                    if let Some(slack) = slack.as_deref_mut() {
+                        slack.record(&surface, state, *v as usize);
+                    }
                     moved += 1;
                 }
             }

@@ -9,6 +9,8 @@
 //! back into 3D on the plane and then put on the patch at its closest point; the star is
 //! always scored there, on the surface, never in the chart.
 
+use std::cell::{Cell, RefCell};
+
 use glam::{DVec2, DVec3};
 
 use super::patches::{OnPatch, Patches, corner_vertices};
@@ -156,8 +158,26 @@ impl Surface<'_> {
     /// computed once per star rather than once per candidate.
     pub fn star_score_at(&self, state: &State, v: usize, star: &LocalStar, at: &Placed) -> Score {
         debug_assert_eq!(star.global.first(), Some(&(v as u32)));
+        let mut moving = star.moving.borrow_mut();
+        if !star.moving_ready.get() {
+            // On the first score of this star: a star whose first move is certified
+            // (src/surface/slack.rs) is never scored.
+            moving.clear();
+            for &f in self.topo.vertex_quads(v) {
+                let face = &self.faces[f as usize];
+                let cv = corner_vertices(face);
+                moving.push(match cv.iter().position(|&u| u as usize == v) {
+                    Some(k) if !crate::face::is_triangle(face) => {
+                        let q = cv.map(|u| state.points[u as usize]);
+                        Some(MovingCorner::new(&q, &state.normals[f as usize], k))
+                    }
+                    _ => None,
+                });
+            }
+            star.moving_ready.set(true);
+        }
         let mut s = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
-        for (&f, corner) in self.topo.vertex_quads(v).iter().zip(&star.moving) {
+        for (&f, corner) in self.topo.vertex_quads(v).iter().zip(moving.iter()) {
             let value = match corner {
                 Some(c) => c.value(at.point, at.normal_for(self.patches.of_face(f as usize))),
                 None => self.face_value(state, f as usize, Some((v, at))),
@@ -252,8 +272,10 @@ pub struct LocalStar {
     pub full_ring: Vec<u32>,
     pub faces: Vec<Face>,
     /// Per face of the star (in [`Topology::vertex_quads`] order), its fixed corners for
-    /// [`Surface::star_score_at`]; `None` for a triangle, which is measured in full.
-    moving: Vec<Option<MovingCorner>>,
+    /// [`Surface::star_score_at`], made there on the star's first score; `None` for a
+    /// triangle, which is measured in full.
+    moving: RefCell<Vec<Option<MovingCorner>>>,
+    moving_ready: Cell<bool>,
     scratch: Vec<u32>,
 }
 
@@ -274,7 +296,7 @@ impl LocalStar {
         self.ring.clear();
         self.full_ring.clear();
         self.faces.clear();
-        self.moving.clear();
+        self.moving_ready.set(false);
         self.local(v as u32, chart, state);
         for &u in surface.topo.ring(v) {
             let l = self.local(u, chart, state);
@@ -294,15 +316,6 @@ impl LocalStar {
                 local[k] = self.local(face[k], chart, state);
             }
             self.faces.push(local);
-            let cv = corner_vertices(&face);
-            let corner = match cv.iter().position(|&u| u as usize == v) {
-                Some(k) if !crate::face::is_triangle(&face) => {
-                    let q = cv.map(|u| state.points[u as usize]);
-                    Some(MovingCorner::new(&q, &state.normals[f as usize], k))
-                }
-                _ => None,
-            };
-            self.moving.push(corner);
         }
     }
 }

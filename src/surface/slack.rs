@@ -1,0 +1,212 @@
+//! Slack certificates on the surface: how far a face's corners may move, and their normals
+//! turn, before its signed scaled Jacobian can fall to the guard's floor. A sweep takes a
+//! move that certainly stays above the floor without scoring its star, as the plane does
+//! (`smooth::guard::certainly_at_least`); the decision is the one the score would give, so
+//! the result is the same bit for bit.
+//!
+//! The bound. A corner's value is `n . (u_(i-1) x u_i)` with `n` its unit reference normal
+//! and `u` the unit edge directions. Moving an edge's ends by at most `D` each turns it by at
+//! most `pi D / l` (`l` its length, `2D < l`), so `|u' - u| <= pi D / L` (`L` the face's
+//! shortest edge); a normal that turns to `n'` adds `|n' - n|`, as `|u x u| <= 1`. So with
+//! every corner moved by at most `D` and every normal by at most `N`, the value falls by at
+//! most `2 pi D / L + N`; while that is below the value's height above the floor, the face
+//! stays above it (and above zero: the budget is measured from `max(floor, 0)`). The edges
+//! stay longer than `L (1 - 1/pi)`, far from the degenerate-edge cut-off. A margin of 1e-9
+//! covers the rounding of the values and of the bound. Triangles get no certificate.
+
+use glam::DVec3;
+
+use super::patches::corner_vertices;
+use super::star::{Placed, State, Surface};
+use crate::face::is_triangle;
+
+/// Absolute margin for the rounding of the scaled Jacobians and of the bound (as the plane's).
+const MARGIN: f64 = 1e-9;
+
+/// Per-face budgets from one state, and how far each vertex has moved since.
+pub struct Slack {
+    /// Per face: its value's height above `max(floor, 0)` less the margin, rounded down to an
+    /// f32 (0: no certificate).
+    budget: Vec<f32>,
+    /// Per face: `2 pi` over its shortest edge, rounded up.
+    per_length: Vec<f32>,
+    /// The positions and corner normals the budgets were computed at.
+    points: Vec<DVec3>,
+    normals: Vec<[DVec3; 4]>,
+    /// Per vertex: how far it has moved since, and how far its normals have turned (the
+    /// largest over its faces), rounded up.
+    moved: Vec<f32>,
+    turned: Vec<f32>,
+}
+
+/// The larger of `a` and `b`, NaN if `b` is (so a NaN fails the certificate).
+fn larger(a: f64, b: f64) -> f64 {
+    if b > a || b.is_nan() { b } else { a }
+}
+
+/// `x >= 0` rounded up to an f32 (NaN stays NaN, which fails every comparison).
+fn up(x: f64) -> f32 {
+    let r = x as f32;
+    if f64::from(r) >= x || r.is_nan() { r } else { f32::from_bits(r.to_bits() + 1) }
+}
+
+/// `x > 0` rounded down to an f32; 0 for anything else.
+fn down(x: f64) -> f32 {
+    if !(x > 0.0) {
+        return 0.0;
+    }
+    let r = x as f32;
+    if f64::from(r) <= x { r } else { f32::from_bits(r.to_bits() - 1) }
+}
+
+impl Slack {
+    /// The budgets of every face at `state`, whose signed values are `values`, for the
+    /// guard's floor `floor`.
+    pub fn new(surface: &Surface, state: &State, values: &[f64], floor: f64) -> Slack {
+        let mut slack = Slack {
+            budget: Vec::new(),
+            per_length: Vec::new(),
+            points: Vec::new(),
+            normals: Vec::new(),
+            moved: Vec::new(),
+            turned: Vec::new(),
+        };
+        slack.reset(surface, state, values, floor);
+        slack
+    }
+
+    /// Recomputes the budgets at `state` (the start of the next sweep).
+    pub fn reset(&mut self, surface: &Surface, state: &State, values: &[f64], floor: f64) {
+        let base = floor.max(0.0);
+        self.budget.clear();
+        self.per_length.clear();
+        for (face, &value) in surface.faces.iter().zip(values) {
+            let (budget, per_length) = if is_triangle(face) {
+                (0.0, 0.0)
+            } else {
+                let q = corner_vertices(face).map(|u| state.points[u as usize]);
+                let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
+                let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
+                let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
+                // No bound near the degenerate-edge cut-off (the plane's rule).
+                if shortest >= 1e-24 * longest && shortest > 0.0 {
+                    (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
+                } else {
+                    (0.0, 0.0)
+                }
+            };
+            self.budget.push(budget);
+            self.per_length.push(per_length);
+        }
+        self.points.clone_from(&state.points);
+        self.normals.clone_from(&state.normals);
+        self.moved.clear();
+        self.moved.resize(state.points.len(), 0.0);
+        self.turned.clear();
+        self.turned.resize(state.points.len(), 0.0);
+    }
+
+    /// Records that `v` has moved to where `state` has it now.
+    pub fn record(&mut self, surface: &Surface, state: &State, v: usize) {
+        self.moved[v] = up((state.points[v] - self.points[v]).length());
+        let mut turned = 0.0f64;
+        for &f in surface.topo.vertex_quads(v) {
+            let f = f as usize;
+            for (k, &u) in corner_vertices(&surface.faces[f]).iter().enumerate() {
+                if u as usize == v {
+                    turned = larger(turned, (state.normals[f][k] - self.normals[f][k]).length());
+                }
+            }
+        }
+        self.turned[v] = up(turned);
+    }
+
+    /// Whether `v` at `at` certainly leaves every face of its star above the floor with no
+    /// face inverted (what the guard's first test would find by scoring the star). `false`
+    /// means only "not certain".
+    pub fn certifies(&self, surface: &Surface, v: usize, at: &Placed) -> bool {
+        let own = f64::from(up((at.point - self.points[v]).length()));
+        surface.topo.vertex_quads(v).iter().all(|&f| {
+            let f = f as usize;
+            let budget = self.budget[f];
+            if budget <= 0.0 {
+                return false;
+            }
+            let (mut d, mut n) = (own, 0.0f64);
+            for (k, &u) in corner_vertices(&surface.faces[f]).iter().enumerate() {
+                let u = u as usize;
+                if u == v {
+                    let normal = at.normal_for(surface.patches.of_face(f));
+                    n = larger(n, (normal - self.normals[f][k]).length());
+                } else {
+                    d = larger(d, f64::from(self.moved[u]));
+                    n = larger(n, f64::from(self.turned[u]));
+                }
+            }
+            d * f64::from(self.per_length[f]) + n < f64::from(budget)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::star::Motion;
+    use crate::surface::{SurfaceMesh, SurfaceOptimizer};
+
+    /// A quarter cylinder of 30 x 20 quads, its inner vertices moved along it at random.
+    fn cylinder(rnd: &mut impl FnMut() -> f64) -> SurfaceMesh {
+        let (nu, nv) = (30, 20);
+        let mut points = Vec::new();
+        for j in 0..=nv {
+            for i in 0..=nu {
+                let inner = i > 0 && i < nu && j > 0 && j < nv;
+                let (du, dv) = if inner { (0.15 * rnd(), 0.15 * rnd()) } else { (0.0, 0.0) };
+                let a = (i as f64 + du) / nu as f64 * std::f64::consts::FRAC_PI_2;
+                points.push(DVec3::new(a.cos(), a.sin(), (j as f64 + dv) / nv as f64));
+            }
+        }
+        let id = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+        let faces = (0..nv)
+            .flat_map(|j| (0..nu).map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]))
+            .collect();
+        SurfaceMesh::new(points, faces, None).unwrap()
+    }
+
+    #[test]
+    fn a_certified_move_keeps_every_face_of_its_star_above_the_floor() {
+        let mut rnd = crate::test_rng::xorshift(0x51ac_c0de_u64);
+        let mesh = cylinder(&mut rnd);
+        let optimizer = SurfaceOptimizer::new(&mesh, 45.0, &[]).unwrap();
+        let surface = optimizer.surface();
+        let (mut certified, mut tried) = (0, 0);
+        for floor in [0.0, 0.3, 0.6] {
+            let mut state = optimizer.initial_state();
+            let values = optimizer.values(&state);
+            let mut slack = Slack::new(&surface, &state, &values, floor);
+            // Rounds of moves without a reset: later certificates count the moves before them.
+            for round in 0..4 {
+                for v in 0..state.points.len() {
+                    let Motion::Free(patch) = surface.motion[v] else { continue };
+                    let here = surface.current(&state, v);
+                    let size = [1e-4, 1e-3, 5e-3, 2e-2][(v + round) % 4];
+                    let step = DVec3::new(rnd(), rnd(), rnd()) * size;
+                    let candidate = surface.place_free(patch, here.point + step, here.hint);
+                    tried += 1;
+                    if slack.certifies(&surface, v, &candidate) {
+                        certified += 1;
+                        let score = surface.star_score(&state, v, Some(&candidate));
+                        assert!(score.inverted == 0 && score.min >= floor, "{v} {score:?} floor {floor}");
+                    }
+                    // Move a third of the vertices, whatever that does to their stars.
+                    if (v + round) % 3 == 0 {
+                        surface.apply(&mut state, v, &candidate);
+                        slack.record(&surface, &state, v);
+                    }
+                }
+            }
+        }
+        // The certificate holds for a good part of the small moves (else this tests nothing).
+        assert!(certified * 8 > tried, "{certified} of {tried}");
+    }
+}

@@ -228,8 +228,11 @@ pub(crate) struct MovingCorner {
     /// it) and the bound below which a coordinate leaves it unchanged: 0 if none applies.
     exponent: i32,
     below: f64,
-    /// Scaled: the two fixed edges' vectors and lengths (edge `i` from corner `i` to `i + 1`),
-    /// the fixed corners' bounding box, and the value of the corner opposite the moving one.
+    /// Scaled: the corners before and after the moving one, the two fixed edges' vectors and
+    /// lengths (edge `i` from corner `i` to `i + 1`), the fixed corners' bounding box, and the
+    /// value of the corner opposite the moving one.
+    prev: DVec3,
+    next: DVec3,
     e: [DVec3; 4],
     len: [f64; 4],
     lo: DVec3,
@@ -248,6 +251,8 @@ impl MovingCorner {
             n: *n,
             exponent: 0,
             below: 0.0,
+            prev: DVec3::ZERO,
+            next: DVec3::ZERO,
             e: [DVec3::ZERO; 4],
             len: [0.0; 4],
             lo: DVec3::ZERO,
@@ -262,6 +267,7 @@ impl MovingCorner {
         c.exponent = -unit;
         c.below = scale_by_power_of_two(2.0, unit);
         let s = fixed.map(|p| scale3(p, c.exponent));
+        (c.next, c.prev) = (s[0], s[2]);
         let (a, b) = ((k + 1) % 4, (k + 2) % 4);
         (c.e[a], c.e[b]) = (s[1] - s[0], s[2] - s[1]);
         (c.len[a], c.len[b]) = (c.e[a].length(), c.e[b].length());
@@ -285,12 +291,12 @@ impl MovingCorner {
             (q[k], n[k]) = (p, normal);
             return signed_scaled_jacobian_unit(&q, &n);
         }
-        let (prev, next) = ((k + 3) % 4, (k + 1) % 4);
+        let prev = (k + 3) % 4;
         let x = scale3(p, self.exponent);
         let (mut e, mut len) = (self.e, self.len);
         // The fixed corners are scaled exactly as the full computation scales them.
-        e[prev] = x - scale3(self.q[prev], self.exponent);
-        e[k] = scale3(self.q[next], self.exponent) - x;
+        e[prev] = x - self.prev;
+        e[k] = self.next - x;
         (len[prev], len[k]) = (e[prev].length(), e[k].length());
         let short = DEGENERATE_EDGE_RELATIVE * (self.hi.max(x) - self.lo.min(x)).length();
         if len.iter().any(|&l| l == 0.0 || l < short) {

@@ -9,8 +9,9 @@
 //!
 //! [`SurfaceOptimizer`] runs the planar method on a surface: feature curves cut the input
 //! into smooth patches (`patches`), each vertex's star is mapped to its tangent plane
-//! (`star`), moved there by the planar kernels (`moves`) and put back on its patch or along its
-//! feature curve (`tracks`); the run's stages are in `optimizer`. docs/reference_surface.md
+//! (`star`), moved there by the planar kernels (`moves`, the guard's certificates in `slack`)
+//! and put back on its patch or along its feature curve (`tracks`); the run's stages are in
+//! `optimizer`. docs/reference_surface.md
 //! explains the choices (the quad's diagonal, the tree) and gives the measured numbers.
 
 mod bvh;

@@ -243,7 +243,10 @@ fn perturbed_sphere(n: u32) -> quadopt::surface::SurfaceMesh {
 /// y-axis the cylinder's): an isometry, so the same mesh with the same quality problem, on a
 /// curved surface.
 fn rolled(plane: &quadopt::Mesh) -> quadopt::surface::SurfaceMesh {
-    let (lo, hi) = plane.points().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.x), hi.max(p.x)));
+    let (lo, hi) = plane
+        .points()
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.x), hi.max(p.x)));
     let r = (hi - lo) / std::f64::consts::PI;
     let points = plane
         .points()
@@ -282,7 +285,11 @@ fn curved(c: &mut Criterion) {
         let r = surface_optimizer.run(&mut sphere.clone(), &options, None).unwrap();
         let y = cylinder_optimizer.run(&mut cylinder.clone(), &options, None).unwrap();
         let p = optimizer.run(&mut plane.clone(), &options, None).unwrap();
-        let line = |what: &str, sweeps: usize, input: &quadopt::QualityStats, output: &quadopt::QualityStats, seconds: f64| {
+        let line = |what: &str,
+                    sweeps: usize,
+                    input: &quadopt::QualityStats,
+                    output: &quadopt::QualityStats,
+                    seconds: f64| {
             format!(
                 "{what} {sweeps} sweeps, min/avg {:.3}/{:.4} -> {:.3}/{:.4}, {seconds:.4} s",
                 input.min, input.avg, output.min, output.avg

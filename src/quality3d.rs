@@ -217,7 +217,7 @@ pub(crate) fn signed_scaled_jacobian_unit(q: &[DVec3; 4], n: &[DVec3; 4]) -> f64
 /// [`signed_scaled_jacobian_unit`]'s bit for bit: the same scaled corners, edges and
 /// operations, the fourth corner's (both of whose edges are fixed) computed ahead; a position
 /// that changes the quad's scaling exponent, and a triangle, take the full computation.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct MovingCorner {
     /// Which corner moves.
     k: usize,
@@ -245,20 +245,7 @@ impl MovingCorner {
     pub(crate) fn new(q: &[DVec3; 4], n: &[DVec3; 4], k: usize) -> MovingCorner {
         let fixed = [q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]];
         let m = fixed.iter().fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()).max(p.z.abs()));
-        let mut c = MovingCorner {
-            k,
-            q: *q,
-            n: *n,
-            exponent: 0,
-            below: 0.0,
-            prev: DVec3::ZERO,
-            next: DVec3::ZERO,
-            e: [DVec3::ZERO; 4],
-            len: [0.0; 4],
-            lo: DVec3::ZERO,
-            hi: DVec3::ZERO,
-            opposite: 0.0,
-        };
+        let mut c = MovingCorner { k, q: *q, n: *n, ..MovingCorner::default() };
         // A triangle (last two corners equal) or corners at the origin: the full computation.
         if q[3] == q[2] || !(m > 0.0 && m.is_finite()) {
             return c;
@@ -394,14 +381,16 @@ mod tests {
             // triangles, and positions that change the scaling exponent.
             let scale = [1.0, 1e-12, 3e8, 1e150, 1e-150][t % 5];
             let offset = DVec3::new(rnd(), rnd(), rnd()) * [0.0, 1.0, 1e6][t % 3];
-            let mut q: [DVec3; 4] = std::array::from_fn(|_| DVec3::new(rnd(), rnd(), 0.2 * rnd()) * scale + offset);
+            let mut q: [DVec3; 4] =
+                std::array::from_fn(|_| DVec3::new(rnd(), rnd(), 0.2 * rnd()) * scale + offset);
             if t % 11 == 0 {
                 q[3] = q[2];
             }
             if t % 13 == 0 {
                 q[1] = q[0] + DVec3::splat(1e-17 * scale);
             }
-            let n: [DVec3; 4] = std::array::from_fn(|_| DVec3::new(0.3 * rnd(), 0.3 * rnd(), 1.0).normalize());
+            let n: [DVec3; 4] =
+                std::array::from_fn(|_| DVec3::new(0.3 * rnd(), 0.3 * rnd(), 1.0).normalize());
             let k = t % 4;
             let corner = MovingCorner::new(&q, &n, k);
             for _ in 0..4 {
@@ -414,7 +403,11 @@ mod tests {
                 let (mut full_q, mut full_n) = (q, n);
                 (full_q[k], full_n[k]) = (p, normal);
                 let expected = signed_scaled_jacobian_unit(&full_q, &full_n);
-                assert_eq!(corner.value(p, normal).to_bits(), expected.to_bits(), "{full_q:?} {full_n:?} corner {k}");
+                assert_eq!(
+                    corner.value(p, normal).to_bits(),
+                    expected.to_bits(),
+                    "{full_q:?} {full_n:?} corner {k}"
+                );
                 fast += usize::from(corner.below > 0.0 && p.abs().max_element() < corner.below);
             }
         }

@@ -9,7 +9,8 @@ use glam::DVec3;
 use quadopt::Error;
 use quadopt::face::{self, Face, NO_VERTEX};
 use quadopt::surface::{
-    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
+    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment,
+    closest_point_on_triangle,
 };
 use rayon::prelude::*;
 
@@ -272,7 +273,8 @@ fn check_walk(points: &[DVec3], faces: &[Face], near: f64, step: f64, seed: u64)
         let walked = s.closest_point_near(q, from.triangle);
         let exact = s.closest_point_exhaustive(q);
         assert!(
-            (walked.distance - exact.distance).abs() <= 1e-12 && (walked.point - exact.point).length() <= 1e-12,
+            (walked.distance - exact.distance).abs() <= 1e-12
+                && (walked.point - exact.point).length() <= 1e-12,
             "query {q} from {from:?}: walked {walked:?}, exhaustive {exact:?}"
         );
         assert_eq!(walked.face, s.triangle_face(walked.triangle));
@@ -309,7 +311,10 @@ fn the_walk_from_any_triangle_finds_the_closest_point_on_a_plane() {
         let hint = (rng.next() % s.triangle_count() as u64) as u32;
         let walked = s.closest_point_near(q, hint);
         let exact = s.closest_point_exhaustive(q);
-        assert!((walked.distance - exact.distance).abs() <= 1e-12, "query {q} hint {hint}: {walked:?} {exact:?}");
+        assert!(
+            (walked.distance - exact.distance).abs() <= 1e-12,
+            "query {q} hint {hint}: {walked:?} {exact:?}"
+        );
     }
 }
 

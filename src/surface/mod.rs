@@ -33,6 +33,7 @@ pub use features::{
 pub use mesh::{NO_FACE, SurfaceComponent, SurfaceEdge, SurfaceMesh, face_vector_area};
 pub use optimizer::SurfaceOptimizer;
 pub use reference::{
-    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment, closest_point_on_triangle,
+    Closest, NO_TRIANGLE, ReferenceSurface, TriangleRegion, closest_point_on_segment,
+    closest_point_on_triangle,
 };
 pub use report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};

@@ -11,8 +11,8 @@ use super::mesh::SurfaceMesh;
 use super::moves::{self, StepRule};
 use super::patches::{Patches, corner_vertices};
 use super::reference::{NO_TRIANGLE, ReferenceSurface};
-use super::slack::Slack;
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
+use super::slack::Slack;
 use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
 use super::tracks::Tracks;
 use crate::error::{Error, Result};
@@ -431,7 +431,8 @@ impl SurfaceOptimizer {
         // The guard's first test by certificate where it can (src/surface/slack.rs). Not with
         // the Laplacian's candidate too: choosing between the two scores both stars anyway,
         // and keeping the certificates up to date cost `balanced` 30% on the cube-sphere.
-        let mut slack = (options.guard && !with_laplacian).then(|| Slack::new(&surface, &state, &start_values, floor));
+        let mut slack =
+            (options.guard && !with_laplacian).then(|| Slack::new(&surface, &state, &start_values, floor));
         let stale_limit = options.effort.stale_sweeps().filter(|_| options.stop == StopRule::Quality);
         let (mut iterations, mut stale) = (0, 0);
         while !cancelled && iterations < sweep_cap {

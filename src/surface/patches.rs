@@ -152,9 +152,11 @@ impl Patches {
         let first = self.face_triangle[f];
         let reference = &self.patches[self.face_patch[f] as usize].reference;
         let second = first + 1;
-        let own = |t: u32| (t as usize) < reference.triangle_count()
-            && reference.triangle_face(t) == reference.triangle_face(first)
-            && reference.triangles()[t as usize].contains(&v);
+        let own = |t: u32| {
+            (t as usize) < reference.triangle_count()
+                && reference.triangle_face(t) == reference.triangle_face(first)
+                && reference.triangles()[t as usize].contains(&v)
+        };
         if !own(first) && own(second) { second } else { first }
     }
 

@@ -30,6 +30,10 @@ pub struct OnPatch {
 }
 
 struct Patch {
+    /// The patch's own vertices (its faces' corners; the reference is built on those alone,
+    /// so a surface of many patches holds each point about once, not once per patch), by
+    /// their local number in the reference.
+    global: Vec<u32>,
     reference: ReferenceSurface,
     /// The patch's normal at the three corners of each of its reference's triangles.
     corner_normals: Vec<[DVec3; 3]>,
@@ -107,6 +111,8 @@ impl Patches {
         }
         let mut patches = Vec::with_capacity(members.len());
         let mut face_triangle = vec![0u32; faces.len()];
+        // Each vertex's local number in the patch being built (u32::MAX: not in it).
+        let mut local = vec![u32::MAX; points.len()];
         for (p, list) in members.iter().enumerate() {
             // The reference numbers its triangles in face order, a quad's two together.
             let mut next = 0u32;
@@ -114,19 +120,32 @@ impl Patches {
                 face_triangle[f as usize] = next;
                 next += if face::is_triangle(&faces[f as usize]) { 1 } else { 2 };
             }
-            let patch_faces: Vec<Face> = list.iter().map(|&f| faces[f as usize]).collect();
-            let reference = ReferenceSurface::new(points, &patch_faces)?;
+            let mut global: Vec<u32> =
+                list.iter().flat_map(|&f| face::vertices(&faces[f as usize]).iter().copied()).collect();
+            global.sort_unstable();
+            global.dedup();
+            for (l, &v) in global.iter().enumerate() {
+                local[v as usize] = l as u32;
+            }
+            let patch_points: Vec<DVec3> = global.iter().map(|&v| points[v as usize]).collect();
+            let patch_faces: Vec<Face> = list
+                .iter()
+                .map(|&f| faces[f as usize].map(|v| if v == face::NO_VERTEX { v } else { local[v as usize] }))
+                .collect();
+            for &v in &global {
+                local[v as usize] = u32::MAX;
+            }
+            let reference = ReferenceSurface::new(&patch_points, &patch_faces)?;
             let corner_normals = reference
                 .triangles()
                 .iter()
                 .map(|t| {
-                    let fallback = (points[t[1] as usize] - points[t[0] as usize])
-                        .cross(points[t[2] as usize] - points[t[0] as usize])
-                        .normalize_or(DVec3::Z);
-                    t.map(|v| normal_of(v, p as u32, fallback))
+                    let at = |k: usize| patch_points[t[k] as usize];
+                    let fallback = (at(1) - at(0)).cross(at(2) - at(0)).normalize_or(DVec3::Z);
+                    t.map(|v| normal_of(global[v as usize], p as u32, fallback))
                 })
                 .collect();
-            patches.push(Patch { reference, corner_normals });
+            patches.push(Patch { global, reference, corner_normals });
         }
         Ok(Patches { face_patch, face_triangle, patches, input_corner_normals })
     }
@@ -150,12 +169,13 @@ impl Patches {
     /// hint for projecting `v` from where it is), or the face's first if `v` is not its vertex.
     pub fn triangle_at(&self, f: usize, v: u32) -> u32 {
         let first = self.face_triangle[f];
-        let reference = &self.patches[self.face_patch[f] as usize].reference;
+        let patch = &self.patches[self.face_patch[f] as usize];
+        let reference = &patch.reference;
         let second = first + 1;
         let own = |t: u32| {
             (t as usize) < reference.triangle_count()
                 && reference.triangle_face(t) == reference.triangle_face(first)
-                && reference.triangles()[t as usize].contains(&v)
+                && reference.triangles()[t as usize].iter().any(|&l| patch.global[l as usize] == v)
         };
         if !own(first) && own(second) { second } else { first }
     }
@@ -229,6 +249,32 @@ mod tests {
         let on = patches.project(patches.of_face(top), DVec3::new(0.5, 0.5, 3.0), 0);
         assert_eq!(on.point, DVec3::new(0.5, 0.5, 1.0));
         assert_eq!(on.normal, DVec3::Z);
+    }
+
+    #[test]
+    fn each_patch_holds_its_own_vertices_only() {
+        // The cube's six patches: four corners each, where a copy of every point per patch
+        // would be eight.
+        let mesh = cube();
+        let features = SurfaceFeatures::detect_default(&mesh);
+        let patches = Patches::new(&mesh, &features).unwrap();
+        for (f, face) in mesh.faces().iter().enumerate() {
+            let patch = &patches.patches[patches.of_face(f) as usize];
+            assert_eq!(patch.reference.points().len(), 4);
+            let mut own = face.to_vec();
+            own.sort_unstable();
+            assert_eq!(patch.global, own);
+            for (l, &v) in patch.global.iter().enumerate() {
+                assert_eq!(patch.reference.points()[l], mesh.points()[v as usize]);
+            }
+            // Each corner's hint triangle has that corner.
+            for &v in face {
+                let t = patches.triangle_at(f, v);
+                assert!(
+                    patch.reference.triangles()[t as usize].iter().any(|&l| patch.global[l as usize] == v)
+                );
+            }
+        }
     }
 
     #[test]

@@ -89,6 +89,17 @@ pub struct Score {
 }
 
 impl Score {
+    /// The score of no face, to [`add`](Self::add) faces to.
+    pub const EMPTY: Score = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+
+    /// Counts one more face, of signed value `value`.
+    #[inline]
+    pub fn add(&mut self, value: f64) {
+        self.inverted += u32::from(value <= 0.0);
+        self.min = self.min.min(value);
+        self.sum += value;
+    }
+
     /// Strictly better.
     pub fn better_than(&self, other: &Score) -> bool {
         if self.inverted != other.inverted {
@@ -143,12 +154,9 @@ impl Surface<'_> {
 
     /// The score of `v`'s star, with `v` at `at` (else where it is).
     pub fn star_score(&self, state: &State, v: usize, at: Option<&Placed>) -> Score {
-        let mut s = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+        let mut s = Score::EMPTY;
         for &f in self.topo.vertex_quads(v) {
-            let value = self.face_value(state, f as usize, at.map(|a| (v, a)));
-            s.inverted += u32::from(value <= 0.0);
-            s.min = s.min.min(value);
-            s.sum += value;
+            s.add(self.face_value(state, f as usize, at.map(|a| (v, a))));
         }
         s
     }
@@ -176,15 +184,12 @@ impl Surface<'_> {
             }
             star.moving_ready.set(true);
         }
-        let mut s = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+        let mut s = Score::EMPTY;
         for (&f, corner) in self.topo.vertex_quads(v).iter().zip(moving.iter()) {
-            let value = match corner {
+            s.add(match corner {
                 Some(c) => c.value(at.point, at.normal_for(self.patches.of_face(f as usize))),
                 None => self.face_value(state, f as usize, Some((v, at))),
-            };
-            s.inverted += u32::from(value <= 0.0);
-            s.min = s.min.min(value);
-            s.sum += value;
+            });
         }
         s
     }

@@ -72,34 +72,29 @@ pub fn smoothing_move(
             Method::EmbeddedPolygon => ep.point,
             Method::Laplacian => laplacian::uniform_target(&star.points, &star.ring),
             Method::Cotangent => laplacian::cotangent_target(&star.points, 0, &star.ring),
-            Method::AngleBased => angle_based::target(&star.points, 0, &star.full_ring),
-        };
-        let first = free_move(surface, state, v, rule, star, (chart, here), target, slack);
-        if !rule.with_laplacian {
-            return (first.map(|(p, _)| p), ep.energy);
-        }
-        let lap = laplacian::uniform_target(&star.points, &star.ring);
-        let second = free_move(surface, state, v, rule, star, (chart, here), lap, slack);
-        let take_second = match (&first, &second) {
-            (_, None) => false,
-            (None, Some(_)) => true,
-            (Some((a, sa)), Some((b, sb))) => {
-                // The guard scored what it accepted; only an unguarded step is scored here.
-                let a = sa.unwrap_or_else(|| surface.star_score_at(state, v, star, a));
-                let b = sb.unwrap_or_else(|| surface.star_score_at(state, v, star, b));
-                // Both above the floor: the better average; else the better star.
-                let above = |s: &Score| s.inverted == 0 && s.min >= rule.floor;
-                if above(&a) && above(&b) { b.sum > a.sum } else { b.better_than(&a) }
+            Method::AngleBased => {
+                star.build_full_ring(surface, v);
+                angle_based::target(&star.points, 0, &star.full_ring)
             }
         };
-        let chosen = if take_second { second } else { first };
-        return (chosen.map(|(p, _)| p), ep.energy);
+        if !rule.with_laplacian {
+            return (free_move(surface, state, v, rule, star, (chart, here), target, slack), ep.energy);
+        }
+        // Both targets compared in the chart, then only the one preferred there projected and
+        // guarded on the surface; the other only if the guard finds no step towards it.
+        let lap = laplacian::uniform_target(&star.points, &star.ring);
+        let (a, b) = chart_scores(star, target * rule.lambda, lap * rule.lambda);
+        let above = |s: &Score| s.inverted == 0 && s.min >= rule.floor;
+        let lap_first = if above(&a) && above(&b) { b.sum > a.sum } else { b.better_than(&a) };
+        let (first, second) = if lap_first { (lap, target) } else { (target, lap) };
+        let chosen = free_move(surface, state, v, rule, star, (chart, here), first, slack)
+            .or_else(|| free_move(surface, state, v, rule, star, (chart, here), second, slack));
+        return (chosen, ep.energy);
     }
     (curve_or_still_move(surface, state, v, rule, slack), 0.0)
 }
 
-/// The guarded step of free vertex `v` towards chart position `target`, with its star's score
-/// when the guard computed it.
+/// The guarded step of free vertex `v` towards chart position `target`.
 fn free_move(
     surface: &Surface,
     state: &State,
@@ -109,7 +104,7 @@ fn free_move(
     (chart, here): (Chart, Placed),
     target: DVec2,
     slack: Option<&Slack>,
-) -> Option<(Placed, Option<Score>)> {
+) -> Option<Placed> {
     match surface.motion[v] {
         Motion::Still | Motion::Curve(_) => None,
         Motion::Free(patch) => {
@@ -119,22 +114,21 @@ fn free_move(
             }
             let place = |x: DVec2| surface.place_free(patch, chart.lift(x), here.hint);
             if !rule.guard {
-                return Some((place(step), None));
+                return Some(place(step));
             }
-            let scored = |candidate: Placed, score: Score| moved(candidate, &here).map(|p| (p, Some(score)));
             // A target at or above the floor is acceptable whatever the current star (as in the
             // plane), so the current star is scored only when needed.
             let first = place(step);
-            if slack.is_some_and(|s| s.certifies(surface, v, &first)) {
-                return moved(first, &here).map(|p| (p, None));
+            if slack.is_some_and(|s| s.certifies(surface, state, v, &first)) {
+                return moved(first, &here);
             }
             let first_score = surface.star_score_at(state, v, star, &first);
             if first_score.inverted == 0 && first_score.min >= rule.floor {
-                return scored(first, first_score);
+                return moved(first, &here);
             }
             let current = surface.star_score(state, v, None);
             if guard_accepts(&first_score, &current, rule.floor) {
-                return scored(first, first_score);
+                return moved(first, &here);
             }
             let mut s = step;
             for _ in 0..MAX_HALVINGS {
@@ -142,7 +136,7 @@ fn free_move(
                 let candidate = place(s);
                 let score = surface.star_score_at(state, v, star, &candidate);
                 if guard_accepts(&score, &current, rule.floor) {
-                    return scored(candidate, score);
+                    return moved(candidate, &here);
                 }
             }
             if current.min >= PERFECT {
@@ -150,7 +144,7 @@ fn free_move(
             }
             // Stuck: the direction that raises the star's smallest corner in the chart, the
             // longest step along it that makes the star strictly better on the surface.
-            untangling_move(surface, state, v, star, (&chart, &here), &current).map(|(p, s)| (p, Some(s)))
+            untangling_move(surface, state, v, star, (&chart, &here), &current)
         }
     }
 }
@@ -178,7 +172,7 @@ fn curve_or_still_move(
             }
             let here = surface.current(state, v);
             let first = surface.place_on_curve(v, slot, s0 + step);
-            if slack.is_some_and(|s| s.certifies(surface, v, &first)) {
+            if slack.is_some_and(|s| s.certifies(surface, state, v, &first)) {
                 return moved(first, &here);
             }
             let first_score = surface.star_score(state, v, Some(&first));
@@ -207,6 +201,51 @@ fn moved(candidate: Placed, here: &Placed) -> Option<Placed> {
     (candidate.point != here.point).then_some(candidate)
 }
 
+/// The scores of `star` in its chart with its vertex at `x` and at `y`: each face's smallest
+/// corner value `cross(a, b) / (|a| |b|)` (Verdict's triangle factor for a triangle), what
+/// does not depend on the vertex computed once. Only their order is used, to choose which
+/// target to project, so they are not Verdict's values to the bit (no rescaling, no
+/// short-edge cut-off); a degenerate corner counts as 0.
+fn chart_scores(star: &LocalStar, x: DVec2, y: DVec2) -> (Score, Score) {
+    // cross(a, b) / sqrt(a2 b2), with a2 and b2 the squared lengths of a and b.
+    let corner = |a: DVec2, b: DVec2, a2: f64, b2: f64| {
+        let l = (a2 * b2).sqrt();
+        if l > 0.0 { a.perp_dot(b) / l } else { 0.0 }
+    };
+    let (mut sx, mut sy) = (Score::EMPTY, Score::EMPTY);
+    for face in &star.faces {
+        let triangle = crate::face::is_triangle(face);
+        let n = if triangle { 3 } else { 4 };
+        let Some(k) = face[..n].iter().position(|&u| u == 0) else { continue };
+        let at = |i: usize| star.points[face[(k + i) % n] as usize];
+        // The vertex's neighbours in the face: the next corner and the previous one.
+        let (next, prev) = (at(1), at(n - 1));
+        // Per candidate: its own corner and the two next to it, whose other edges are fixed.
+        let (to_next, to_prev) =
+            if triangle { (prev - next, next - prev) } else { (at(2) - next, at(2) - prev) };
+        let (l_next, l_prev) = (to_next.length_squared(), to_prev.length_squared());
+        let fixed = if triangle {
+            f64::INFINITY
+        } else {
+            // The corner opposite the vertex: both its edges fixed.
+            let (a, b) = (prev - at(2), next - at(2));
+            corner(a, b, a.length_squared(), b.length_squared())
+        };
+        let value = |z: DVec2| {
+            let (a, b) = (next - z, prev - z);
+            let (a2, b2) = (a.length_squared(), b.length_squared());
+            let own = corner(a, b, a2, b2);
+            let at_next = corner(to_next, -a, l_next, a2);
+            let at_prev = corner(-b, to_prev, b2, l_prev);
+            let min = own.min(at_next).min(at_prev).min(fixed);
+            if triangle { (min * (2.0 / 3.0f64.sqrt())).min(1.0) } else { min }
+        };
+        sx.add(value(x));
+        sy.add(value(y));
+    }
+    (sx, sy)
+}
+
 /// The untangling move of free vertex `v` from its chart: the local linear program of the
 /// plane ([`crate::smooth::untangle`]) on the charted star, then the longest of the full step
 /// and its halvings that leaves the star strictly better on the surface.
@@ -217,7 +256,7 @@ fn untangling_move(
     star: &LocalStar,
     (chart, here): (&Chart, &Placed),
     current: &Score,
-) -> Option<(Placed, Score)> {
+) -> Option<Placed> {
     let Motion::Free(patch) = surface.motion[v] else { return None };
     let target = crate::smooth::untangle::untangle_star(&star.points, &star.faces, 0)?;
     let mut s = target;
@@ -225,7 +264,7 @@ fn untangling_move(
         let candidate = surface.place_free(patch, chart.lift(s), here.hint);
         let score = surface.star_score_at(state, v, star, &candidate);
         if score.better_than(current) {
-            return moved(candidate, here).map(|p| (p, score));
+            return moved(candidate, here);
         }
         s *= 0.5;
     }
@@ -243,7 +282,7 @@ pub fn untangle_move(surface: &Surface, state: &State, v: usize, star: &mut Loca
         Motion::Still => None,
         Motion::Free(_) => {
             let (chart, here) = chart_of(surface, state, v, star);
-            untangling_move(surface, state, v, star, (&chart, &here), &current).map(|(p, _)| p)
+            untangling_move(surface, state, v, star, (&chart, &here), &current)
         }
         Motion::Curve(slot) => curve_search(surface, state, v, slot, &current),
     }

@@ -12,7 +12,7 @@ use super::moves::{self, StepRule};
 use super::patches::{Patches, corner_vertices};
 use super::reference::{NO_TRIANGLE, ReferenceSurface};
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
-use super::slack::Slack;
+use super::slack::{Displacement, Slack};
 use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
 use super::tracks::Tracks;
 use crate::error::{Error, Result};
@@ -245,22 +245,16 @@ impl SurfaceOptimizer {
             crate::pool::run_with_progress(job, answer)
                 .map_err(|crate::pool::NoThreads(why)| Error::NoThreads { why })?
         };
-        let Run { state, input, input_values, iterations, untangle_sweeps, cancelled, max_min } = run;
+        let Run { state, input, input_values, iterations, untangle_sweeps, cancelled, max_min, end } = run;
         // Only moved vertices change: the others keep their bits (they were never written).
         mesh.set_points(&state.points)?;
-        let output_values = self.values(&state);
-        let output = QualityStats::from_values(&output_values);
-        let input_values = &input_values;
-        let verdict = |points: &[DVec3]| {
-            QualityStats::from_values(&crate::quality3d::verdict_values(points, &self.faces))
-        };
         Ok(SurfaceReport {
             input,
-            output,
-            input_verdict: verdict(&self.input_points),
-            output_verdict: verdict(&state.points),
-            input_by_kind: ByFaceKind::new(&self.faces, input_values),
-            output_by_kind: ByFaceKind::new(&self.faces, &output_values),
+            output: QualityStats::from_values(&end.values),
+            input_verdict: end.input_verdict,
+            output_verdict: end.output_verdict,
+            input_by_kind: ByFaceKind::new(&self.faces, &input_values),
+            output_by_kind: ByFaceKind::new(&self.faces, &end.values),
             iterations,
             untangle_sweeps,
             cancelled,
@@ -271,8 +265,28 @@ impl SurfaceOptimizer {
             feature_curves: self.features.curves().len(),
             corners: self.features.roles().iter().filter(|r| **r == VertexRole::Corner).count(),
             movable: self.motion.iter().filter(|m| **m != Motion::Still).count(),
-            fidelity: self.state_fidelity(&state),
+            fidelity: end.fidelity,
         })
+    }
+
+    /// What the report measures of a run's result, computed on the run's pool.
+    fn measure_end(&self, state: &State) -> EndMeasures {
+        let verdict = |points: &[DVec3]| {
+            let value =
+                |f: &Face| crate::quality3d::verdict_scaled_jacobian(&crate::quality3d::corners(points, f));
+            let values: Vec<f64> = if self.faces.len() >= 4 * PARALLEL_MIN {
+                self.faces.par_iter().map(value).collect()
+            } else {
+                self.faces.iter().map(value).collect()
+            };
+            QualityStats::from_values(&values)
+        };
+        EndMeasures {
+            values: self.values(state),
+            input_verdict: verdict(&self.input_points),
+            output_verdict: verdict(&state.points),
+            fidelity: self.state_fidelity(state),
+        }
     }
 
     /// How far a run's result is from the input surface and its feature vertices from their
@@ -280,25 +294,33 @@ impl SurfaceOptimizer {
     /// on-curve vertex's from its curve's segments around its arclength (the curve lies on
     /// the surface), so each is an upper bound of the distance it reports.
     fn state_fidelity(&self, state: &State) -> SurfaceFidelity {
-        let (mut max_distance, mut max_feature_distance) = (0.0f64, 0.0f64);
-        for (v, p) in state.points.iter().enumerate() {
-            if *p == self.input_points[v] {
-                continue;
+        // (distance from the surface, distance from the curve) of one vertex.
+        let distances = |v: usize| {
+            let p = state.points[v];
+            if p == self.input_points[v] {
+                return (0.0, 0.0);
             }
             match self.motion[v] {
                 Motion::Free(patch) => {
-                    let on = self.patches.project(patch, *p, state.hints[v]);
-                    max_distance = max_distance.max((on.point - *p).length());
+                    let on = self.patches.project(patch, p, state.hints[v]);
+                    ((on.point - p).length(), 0.0)
                 }
                 Motion::Curve(slot) => {
-                    let d = self.tracks.track(slot.track).distance_near(*p, state.params[v]);
-                    max_distance = max_distance.max(d);
-                    max_feature_distance = max_feature_distance.max(d);
+                    let d = self.tracks.track(slot.track).distance_near(p, state.params[v]);
+                    (d, d)
                 }
                 // Never moves.
-                Motion::Still => {}
+                Motion::Still => (0.0, 0.0),
             }
-        }
+        };
+        // The largest of each, whatever the order (the maximum of numbers is).
+        let larger = |a: (f64, f64), b: (f64, f64)| (a.0.max(b.0), a.1.max(b.1));
+        let n = state.points.len();
+        let (max_distance, max_feature_distance) = if n >= 4 * PARALLEL_MIN {
+            (0..n).into_par_iter().map(distances).reduce(|| (0.0, 0.0), larger)
+        } else {
+            (0..n).map(distances).fold((0.0, 0.0), larger)
+        };
         SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge }
     }
 
@@ -428,11 +450,8 @@ impl SurfaceOptimizer {
         let mut stopper = Stopper::new(options, movable);
         let start_values = self.values(&state);
         stopper.start(&QualityStats::from_values(&start_values), &best.0);
-        // The guard's first test by certificate where it can (src/surface/slack.rs). Not with
-        // the Laplacian's candidate too: choosing between the two scores both stars anyway,
-        // and keeping the certificates up to date cost `balanced` 30% on the cube-sphere.
-        let mut slack =
-            (options.guard && !with_laplacian).then(|| Slack::new(&surface, &state, &start_values, floor));
+        // The guard's first test by certificate where it can (src/surface/slack.rs).
+        let mut slack = options.guard.then(|| Slack::new(&surface, &state, &start_values, floor));
         let stale_limit = options.effort.stale_sweeps().filter(|_| options.stop == StopRule::Quality);
         let (mut iterations, mut stale) = (0, 0);
         while !cancelled && iterations < sweep_cap {
@@ -450,7 +469,8 @@ impl SurfaceOptimizer {
             }
             let stats = QualityStats::from_values(&values);
             if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
-                best = (stats, state.clone());
+                best.0 = stats;
+                best.1.clone_from(&state);
             }
             stale = if stopping::same(&kept_before, &best.0) { stale + 1 } else { 0 };
             let kept = if options.keep_best { best.0 } else { stats };
@@ -470,8 +490,12 @@ impl SurfaceOptimizer {
         }
 
         // 3. The max-min stage, from the kept iterate; each round kept only if it ranks better.
+        // A minimum within the ranking's tie threshold of a perfect face has nothing to gain
+        // (the plane's rule).
         let mut max_min = None;
-        if rounds > 0 && !cancelled {
+        let kept_min =
+            if options.keep_best { best.0.min } else { QualityStats::from_values(&self.values(&state)).min };
+        if rounds > 0 && !cancelled && kept_min < 1.0 - MIN_TIE {
             let t = Instant::now();
             let before = best.0;
             let mut done = 0;
@@ -516,7 +540,8 @@ impl SurfaceOptimizer {
             }
             state = kept.1;
         }
-        Run { state, input, input_values: values, iterations, untangle_sweeps, cancelled, max_min }
+        let end = self.measure_end(&state);
+        Run { state, input, input_values: values, iterations, untangle_sweeps, cancelled, max_min, end }
     }
 
     /// One sweep, colour class by colour class: each class's moves computed from the same
@@ -534,22 +559,28 @@ impl SurfaceOptimizer {
         for c in 0..self.topo.colour_count() {
             let class = self.topo.colour_class(c);
             let certificates = slack.as_deref();
+            // The move, and what the certificates record of it, computed in parallel; only
+            // writing them is left to the ordered loop below.
             let compute = |star: &mut LocalStar, &v: &u32| {
                 let (p, e) = step(&surface, state, v as usize, star, certificates);
-                (v, p, e)
+                let d = match (&p, certificates) {
+                    (Some(p), Some(s)) => s.displacement(&surface, state, v as usize, p),
+                    _ => Displacement::default(),
+                };
+                (v, p, e, d)
             };
-            let moves: Vec<(u32, Option<Placed>, f64)> = if class.len() >= PARALLEL_MIN {
+            let moves: Vec<(u32, Option<Placed>, f64, Displacement)> = if class.len() >= PARALLEL_MIN {
                 class.par_iter().map_init(LocalStar::default, compute).collect()
             } else {
                 let mut star = LocalStar::default();
                 class.iter().map(|v| compute(&mut star, v)).collect()
             };
-            for (v, p, e) in &moves {
+            for (v, p, e, d) in &moves {
                 energy += e;
                 if let Some(p) = p {
                     surface.apply(state, *v as usize, p);
                     if let Some(slack) = slack.as_deref_mut() {
-                        slack.record(&surface, state, *v as usize);
+                        slack.record(*v as usize, *d);
                     }
                     moved += 1;
                 }
@@ -600,4 +631,14 @@ struct Run {
     untangle_sweeps: usize,
     cancelled: bool,
     max_min: Option<crate::smooth::report::MaxMinGain>,
+    end: EndMeasures,
+}
+
+/// The report's measures of a run's result.
+struct EndMeasures {
+    /// The signed value of each face.
+    values: Vec<f64>,
+    input_verdict: QualityStats,
+    output_verdict: QualityStats,
+    fidelity: SurfaceFidelity,
 }

@@ -15,10 +15,14 @@
 //! covers the rounding of the values and of the bound. Triangles get no certificate.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::patches::corner_vertices;
 use super::star::{Placed, State, Surface};
 use crate::face::is_triangle;
+
+/// Faces from which the budgets are computed in parallel.
+const PARALLEL_MIN: usize = 2048;
 
 /// Absolute margin for the rounding of the scaled Jacobians and of the bound (as the plane's).
 const MARGIN: f64 = 1e-9;
@@ -26,17 +30,19 @@ const MARGIN: f64 = 1e-9;
 /// Per-face budgets from one state, and how far each vertex has moved since.
 pub struct Slack {
     /// Per face: its value's height above `max(floor, 0)` less the margin, rounded down to an
-    /// f32 (0: no certificate).
-    budget: Vec<f32>,
-    /// Per face: `2 pi` over its shortest edge, rounded up.
-    per_length: Vec<f32>,
-    /// The positions and corner normals the budgets were computed at.
-    points: Vec<DVec3>,
-    normals: Vec<[DVec3; 4]>,
+    /// f32 (0: no certificate), and `2 pi` over its shortest edge, rounded up.
+    budget: Vec<(f32, f32)>,
     /// Per vertex: how far it has moved since, and how far its normals have turned (the
     /// largest over its faces), rounded up.
     moved: Vec<f32>,
     turned: Vec<f32>,
+}
+
+/// How far a vertex has moved and its normals turned since the budgets' state, rounded up.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Displacement {
+    moved: f32,
+    turned: f32,
 }
 
 /// The larger of `a` and `b`, NaN if `b` is (so a NaN fails the certificate).
@@ -63,14 +69,7 @@ impl Slack {
     /// The budgets of every face at `state`, whose signed values are `values`, for the
     /// guard's floor `floor`.
     pub fn new(surface: &Surface, state: &State, values: &[f64], floor: f64) -> Slack {
-        let mut slack = Slack {
-            budget: Vec::new(),
-            per_length: Vec::new(),
-            points: Vec::new(),
-            normals: Vec::new(),
-            moved: Vec::new(),
-            turned: Vec::new(),
-        };
+        let mut slack = Slack { budget: Vec::new(), moved: Vec::new(), turned: Vec::new() };
         slack.reset(surface, state, values, floor);
         slack
     }
@@ -78,57 +77,73 @@ impl Slack {
     /// Recomputes the budgets at `state` (the start of the next sweep).
     pub fn reset(&mut self, surface: &Surface, state: &State, values: &[f64], floor: f64) {
         let base = floor.max(0.0);
-        self.budget.clear();
-        self.per_length.clear();
-        for (face, &value) in surface.faces.iter().zip(values) {
-            let (budget, per_length) = if is_triangle(face) {
-                (0.0, 0.0)
+        let face_budget = |(face, &value): (&crate::face::Face, &f64)| {
+            if is_triangle(face) {
+                return (0.0, 0.0);
+            }
+            let q = corner_vertices(face).map(|u| state.points[u as usize]);
+            let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
+            let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
+            let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
+            // No bound near the degenerate-edge cut-off (the plane's rule).
+            if shortest >= 1e-24 * longest && shortest > 0.0 {
+                (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
             } else {
-                let q = corner_vertices(face).map(|u| state.points[u as usize]);
-                let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
-                let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
-                let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
-                // No bound near the degenerate-edge cut-off (the plane's rule).
-                if shortest >= 1e-24 * longest && shortest > 0.0 {
-                    (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
-                } else {
-                    (0.0, 0.0)
-                }
-            };
-            self.budget.push(budget);
-            self.per_length.push(per_length);
+                (0.0, 0.0)
+            }
+        };
+        // Once per sweep over every face: in parallel on large meshes (as the values are).
+        if surface.faces.len() >= PARALLEL_MIN {
+            surface.faces.par_iter().zip(values).map(face_budget).collect_into_vec(&mut self.budget);
+        } else {
+            self.budget.clear();
+            self.budget.extend(surface.faces.iter().zip(values).map(face_budget));
         }
-        self.points.clone_from(&state.points);
-        self.normals.clone_from(&state.normals);
         self.moved.clear();
         self.moved.resize(state.points.len(), 0.0);
         self.turned.clear();
         self.turned.resize(state.points.len(), 0.0);
     }
 
-    /// Records that `v` has moved to where `state` has it now.
-    pub fn record(&mut self, surface: &Surface, state: &State, v: usize) {
-        self.moved[v] = up((state.points[v] - self.points[v]).length());
+    /// How far `v` at `at` is from where it was at the last reset, and how far its normals
+    /// have turned (the largest over its faces), both rounded up: what [`record`](Self::record)
+    /// takes once the move is applied. `state` has `v` where it is before this move: the
+    /// distance from there is added to what is recorded already (a sweep moves a vertex once
+    /// between resets, so there it is the distance itself). It reads nothing another vertex's
+    /// move writes, so a sweep computes it with the move, in parallel.
+    pub fn displacement(&self, surface: &Surface, state: &State, v: usize, at: &Placed) -> Displacement {
         let mut turned = 0.0f64;
         for &f in surface.topo.vertex_quads(v) {
             let f = f as usize;
+            let normal = at.normal_for(surface.patches.of_face(f));
             for (k, &u) in corner_vertices(&surface.faces[f]).iter().enumerate() {
                 if u as usize == v {
-                    turned = larger(turned, (state.normals[f][k] - self.normals[f][k]).length());
+                    turned = larger(turned, (normal - state.normals[f][k]).length());
                 }
             }
         }
-        self.turned[v] = up(turned);
+        let moved = (at.point - state.points[v]).length();
+        Displacement {
+            moved: up(f64::from(self.moved[v]) + moved),
+            turned: up(f64::from(self.turned[v]) + turned),
+        }
+    }
+
+    /// Records that `v` has moved by `d` ([`displacement`](Self::displacement)).
+    pub fn record(&mut self, v: usize, d: Displacement) {
+        self.moved[v] = d.moved;
+        self.turned[v] = d.turned;
     }
 
     /// Whether `v` at `at` certainly leaves every face of its star above the floor with no
     /// face inverted (what the guard's first test would find by scoring the star). `false`
-    /// means only "not certain".
-    pub fn certifies(&self, surface: &Surface, v: usize, at: &Placed) -> bool {
-        let own = f64::from(up((at.point - self.points[v]).length()));
+    /// means only "not certain". `state` has `v` where it is before this move.
+    pub fn certifies(&self, surface: &Surface, state: &State, v: usize, at: &Placed) -> bool {
+        let own = f64::from(up(f64::from(self.moved[v]) + (at.point - state.points[v]).length()));
+        let own_turn = f64::from(self.turned[v]);
         surface.topo.vertex_quads(v).iter().all(|&f| {
             let f = f as usize;
-            let budget = self.budget[f];
+            let (budget, per_length) = self.budget[f];
             if budget <= 0.0 {
                 return false;
             }
@@ -137,13 +152,13 @@ impl Slack {
                 let u = u as usize;
                 if u == v {
                     let normal = at.normal_for(surface.patches.of_face(f));
-                    n = larger(n, (normal - self.normals[f][k]).length());
+                    n = larger(n, own_turn + (normal - state.normals[f][k]).length());
                 } else {
                     d = larger(d, f64::from(self.moved[u]));
                     n = larger(n, f64::from(self.turned[u]));
                 }
             }
-            d * f64::from(self.per_length[f]) + n < f64::from(budget)
+            d * f64::from(per_length) + n < f64::from(budget)
         })
     }
 }
@@ -193,15 +208,16 @@ mod tests {
                     let step = DVec3::new(rnd(), rnd(), rnd()) * size;
                     let candidate = surface.place_free(patch, here.point + step, here.hint);
                     tried += 1;
-                    if slack.certifies(&surface, v, &candidate) {
+                    if slack.certifies(&surface, &state, v, &candidate) {
                         certified += 1;
                         let score = surface.star_score(&state, v, Some(&candidate));
                         assert!(score.inverted == 0 && score.min >= floor, "{v} {score:?} floor {floor}");
                     }
                     // Move a third of the vertices, whatever that does to their stars.
                     if (v + round) % 3 == 0 {
+                        let d = slack.displacement(&surface, &state, v, &candidate);
                         surface.apply(&mut state, v, &candidate);
-                        slack.record(&surface, &state, v);
+                        slack.record(v, d);
                     }
                 }
             }

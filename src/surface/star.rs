@@ -294,7 +294,21 @@ impl LocalStar {
         (self.global.len() - 1) as u32
     }
 
-    /// Fills in `v`'s star in `chart`.
+    /// Fills in [`full_ring`](Self::full_ring) of `v`'s star, [built](Self::build) already
+    /// (only the angle-based target reads it).
+    pub fn build_full_ring(&mut self, surface: &Surface, v: usize) {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        surface.topo.full_ring_into(surface.faces, v, &mut scratch);
+        self.full_ring.clear();
+        for &u in &scratch {
+            // Every vertex of the full ring is a corner of a face of the star.
+            let local = self.global.iter().position(|&g| g == u).unwrap_or(0);
+            self.full_ring.push(local as u32);
+        }
+        self.scratch = scratch;
+    }
+
+    /// Fills in `v`'s star in `chart` (all but its full ring).
     pub fn build(&mut self, surface: &Surface, state: &State, v: usize, chart: &Chart) {
         self.global.clear();
         self.points.clear();
@@ -307,13 +321,6 @@ impl LocalStar {
             let l = self.local(u, chart, state);
             self.ring.push(l);
         }
-        let mut scratch = std::mem::take(&mut self.scratch);
-        surface.topo.full_ring_into(surface.faces, v, &mut scratch);
-        for &u in &scratch {
-            let l = self.local(u, chart, state);
-            self.full_ring.push(l);
-        }
-        self.scratch = scratch;
         for &f in surface.topo.vertex_quads(v) {
             let face = surface.faces[f as usize];
             let mut local = face;

@@ -158,10 +158,15 @@ pub struct Target {
 /// The weighted bisector position of interior vertex `v` (Eqs. 4-8 with lambda = 1) and its
 /// torsion energy (Eq. 1 with K = 1) at the current positions.
 pub fn target(points: &[DVec2], v: usize, ring: &[u32]) -> Target {
+    // Valence is small (typically 3-6): fixed-size scratch, no allocation, and the scratch of
+    // the usual valences small enough that clearing it costs little.
+    if ring.len() <= 8 { target_up_to::<8>(points, v, ring) } else { target_up_to::<32>(points, v, ring) }
+}
+
+/// [`target`] with scratch for valences up to `MAX`.
+fn target_up_to<const MAX: usize>(points: &[DVec2], v: usize, ring: &[u32]) -> Target {
     let n = ring.len();
     let p = points[v];
-    // Valence is small (typically 3-6): fixed-size scratch, no allocation.
-    const MAX: usize = 32;
     if !(2..=MAX).contains(&n) {
         return Target { point: p, energy: 0.0 };
     }

@@ -217,7 +217,8 @@ fn chart_scores(star: &LocalStar, x: DVec2, y: DVec2) -> (Score, Score) {
         let triangle = crate::face::is_triangle(face);
         let n = if triangle { 3 } else { 4 };
         let Some(k) = face[..n].iter().position(|&u| u == 0) else { continue };
-        let at = |i: usize| star.points[face[(k + i) % n] as usize];
+        // Corner k + i (i < n), wrapped without a division.
+        let at = |i: usize| star.points[face[if k + i >= n { k + i - n } else { k + i }] as usize];
         // The vertex's neighbours in the face: the next corner and the previous one.
         let (next, prev) = (at(1), at(n - 1));
         // Per candidate: its own corner and the two next to it, whose other edges are fixed.

@@ -463,10 +463,10 @@ impl SurfaceOptimizer {
                 moves::smoothing_move(surface, state, v, &rule, star, slack)
             });
             let kept_before = best.0;
-            let values = self.values(&state);
-            if let Some(slack) = slack.as_mut() {
-                slack.reset(&surface, &state, &values, floor);
-            }
+            let values = match slack.as_mut() {
+                Some(slack) => slack.values_and_reset(&surface, &state, floor),
+                None => self.values(&state),
+            };
             let stats = QualityStats::from_values(&values);
             if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
                 best.0 = stats;

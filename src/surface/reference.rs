@@ -68,6 +68,10 @@ pub struct ReferenceSurface {
     /// [`NO_TRIANGLE`] at a border or an edge shared by more than two triangles: what the
     /// local walk of [`closest_point_near`](Self::closest_point_near) moves along.
     neighbours: Vec<[u32; 3]>,
+    /// Per triangle, which side of its plane each neighbour's third corner is on: bit `k` for
+    /// neighbour `k` strictly above (the normal's side), bit `k + 3` strictly below. The
+    /// walk's test of which neighbours rise towards a point, without loading them.
+    rises: Vec<u8>,
     bvh: Bvh,
 }
 
@@ -159,7 +163,9 @@ impl ReferenceSurface {
         let points = try_copy(points, "reference points")?;
         let bvh = Bvh::new(&points, &triangles)?;
         let neighbours = edge_neighbours(&triangles)?;
-        Ok(ReferenceSurface { points, triangles, faces: of_face, neighbours, bvh })
+        let mut rises = try_with_capacity(triangles.len(), "reference neighbour sides")?;
+        rises.extend((0..triangles.len()).map(|t| neighbour_sides(&points, &triangles, &neighbours, t)));
+        Ok(ReferenceSurface { points, triangles, faces: of_face, neighbours, rises, bvh })
     }
 
     /// The vertices, as given.
@@ -300,22 +306,21 @@ impl ReferenceSurface {
     /// The neighbours of triangle `t` whose third corner is strictly on the side of `t`'s
     /// plane that `p` is on, written into `out`; returns how many. Only those can be closer to
     /// a `p` that projects inside `t`: every point of another neighbour is at least as far
-    /// from `p` as `t`'s plane is.
+    /// from `p` as `t`'s plane is. (The sides are computed once, in `rises`.)
     fn rising_neighbours(&self, t: u32, p: DVec3, out: &mut [u32; MAX_FAN]) -> usize {
-        let tri = self.triangles[t as usize];
         let [a, b, c] = self.triangle_corners(t);
-        let normal = (b - a).cross(c - a);
-        let side = normal.dot(p - a);
+        let side = (b - a).cross(c - a).dot(p - a);
+        let rises = self.rises[t as usize];
+        let mask = if side > 0.0 {
+            rises & 0b111
+        } else if side < 0.0 {
+            rises >> 3
+        } else {
+            0
+        };
         let mut n = 0;
         for (k, &u) in self.neighbours[t as usize].iter().enumerate() {
-            if u == NO_TRIANGLE {
-                continue;
-            }
-            // u's corner off the shared edge: its three corners less the edge's two.
-            let [x, y, z] = self.triangles[u as usize];
-            let third = x.wrapping_add(y).wrapping_add(z).wrapping_sub(tri[k]).wrapping_sub(tri[(k + 1) % 3]);
-            let rise = normal.dot(self.points[third as usize] - a);
-            if (side > 0.0 && rise > 0.0) || (side < 0.0 && rise < 0.0) {
+            if mask & (1 << k) != 0 {
                 out[n] = u;
                 n += 1;
             }
@@ -395,6 +400,30 @@ impl ReferenceSurface {
     pub fn tree_shape(&self) -> (usize, usize, usize) {
         self.bvh.shape()
     }
+}
+
+/// Which side of triangle `t`'s plane the third corner of each of its `neighbours` is on
+/// ([`ReferenceSurface`]'s `rises`).
+fn neighbour_sides(points: &[DVec3], triangles: &[[u32; 3]], neighbours: &[[u32; 3]], t: usize) -> u8 {
+    let tri = triangles[t];
+    let [a, b, c] = tri.map(|v| points[v as usize]);
+    let normal = (b - a).cross(c - a);
+    let mut sides = 0;
+    for (k, &u) in neighbours[t].iter().enumerate() {
+        if u == NO_TRIANGLE {
+            continue;
+        }
+        // u's corner off the shared edge: its three corners less the edge's two.
+        let [x, y, z] = triangles[u as usize];
+        let third = x.wrapping_add(y).wrapping_add(z).wrapping_sub(tri[k]).wrapping_sub(tri[(k + 1) % 3]);
+        let rise = normal.dot(points[third as usize] - a);
+        if rise > 0.0 {
+            sides |= 1 << k;
+        } else if rise < 0.0 {
+            sides |= 1 << (k + 3);
+        }
+    }
+    sides
 }
 
 /// The triangle across each edge of each triangle ([`ReferenceSurface`]'s `neighbours`).

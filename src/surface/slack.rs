@@ -38,6 +38,25 @@ pub struct Slack {
     turned: Vec<f32>,
 }
 
+/// Face `f`'s budget at `state` (its value `value`) above `base`, and `2 pi` over its
+/// shortest edge; none for a triangle or a face near the degenerate-edge cut-off.
+fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64) -> (f32, f32) {
+    let face = &surface.faces[f];
+    if is_triangle(face) {
+        return (0.0, 0.0);
+    }
+    let q = corner_vertices(face).map(|u| state.points[u as usize]);
+    let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
+    let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
+    let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
+    // No bound near the degenerate-edge cut-off (the plane's rule).
+    if shortest >= 1e-24 * longest && shortest > 0.0 {
+        (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
+    } else {
+        (0.0, 0.0)
+    }
+}
+
 /// How far a vertex has moved and its normals turned since the budgets' state, rounded up.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Displacement {
@@ -74,35 +93,51 @@ impl Slack {
         slack
     }
 
-    /// Recomputes the budgets at `state` (the start of the next sweep).
+    /// Recomputes the budgets at `state` (the start of the next sweep), whose signed values
+    /// are `values`.
     pub fn reset(&mut self, surface: &Surface, state: &State, values: &[f64], floor: f64) {
         let base = floor.max(0.0);
-        let face_budget = |(face, &value): (&crate::face::Face, &f64)| {
-            if is_triangle(face) {
-                return (0.0, 0.0);
-            }
-            let q = corner_vertices(face).map(|u| state.points[u as usize]);
-            let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
-            let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
-            let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
-            // No bound near the degenerate-edge cut-off (the plane's rule).
-            if shortest >= 1e-24 * longest && shortest > 0.0 {
-                (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
-            } else {
-                (0.0, 0.0)
-            }
-        };
+        let budget = |(f, &value): (usize, &f64)| face_budget(surface, state, f, value, base);
         // Once per sweep over every face: in parallel on large meshes (as the values are).
         if surface.faces.len() >= PARALLEL_MIN {
-            surface.faces.par_iter().zip(values).map(face_budget).collect_into_vec(&mut self.budget);
+            values.par_iter().enumerate().map(budget).collect_into_vec(&mut self.budget);
         } else {
             self.budget.clear();
-            self.budget.extend(surface.faces.iter().zip(values).map(face_budget));
+            self.budget.extend(values.iter().enumerate().map(budget));
         }
+        self.clear_moves(state.points.len());
+    }
+
+    /// The signed value of every face at `state`, with the budgets recomputed there as by
+    /// [`reset`](Self::reset): one pass over the faces where a sweep needs both.
+    pub fn values_and_reset(&mut self, surface: &Surface, state: &State, floor: f64) -> Vec<f64> {
+        let base = floor.max(0.0);
+        let both = |f: usize| {
+            let value = surface.face_value(state, f, None);
+            (value, face_budget(surface, state, f, value, base))
+        };
+        let mut values = Vec::new();
+        if surface.faces.len() >= PARALLEL_MIN {
+            (0..surface.faces.len()).into_par_iter().map(both).unzip_into_vecs(&mut values, &mut self.budget);
+        } else {
+            self.budget.clear();
+            values.reserve(surface.faces.len());
+            for f in 0..surface.faces.len() {
+                let (value, budget) = both(f);
+                values.push(value);
+                self.budget.push(budget);
+            }
+        }
+        self.clear_moves(state.points.len());
+        values
+    }
+
+    /// Every vertex at rest since the budgets' state.
+    fn clear_moves(&mut self, vertices: usize) {
         self.moved.clear();
-        self.moved.resize(state.points.len(), 0.0);
+        self.moved.resize(vertices, 0.0);
         self.turned.clear();
-        self.turned.resize(state.points.len(), 0.0);
+        self.turned.resize(vertices, 0.0);
     }
 
     /// How far `v` at `at` is from where it was at the last reset, and how far its normals

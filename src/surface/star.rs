@@ -19,9 +19,10 @@ use crate::face::Face;
 use crate::quality3d::{MovingCorner, signed_scaled_jacobian_unit};
 use crate::topology::Topology;
 
-/// Most patches a moving vertex may touch (a vertex on a feature curve touches two; one at
-/// which more meet is a corner).
-pub const MAX_PATCHES: usize = 4;
+/// Most patches a moving vertex may touch: a vertex on a feature curve touches two, one on
+/// each side (each side of the curve around a manifold vertex is one patch, as only feature
+/// edges cut patches); one at which more meet is a corner.
+pub const MAX_PATCHES: usize = 2;
 
 /// A plane through a vertex with an orthonormal basis: the vertex's chart.
 #[derive(Clone, Copy, Debug)]
@@ -203,7 +204,11 @@ impl Surface<'_> {
             normals: [(u32::MAX, DVec3::Z); MAX_PATCHES],
             count: 0,
         };
-        for &f in self.topo.vertex_quads(v) {
+        // A free vertex's faces are all in its patch: the first one gives its normal.
+        let faces = self.topo.vertex_quads(v);
+        let faces =
+            if matches!(self.motion[v], Motion::Free(_)) { &faces[..faces.len().min(1)] } else { faces };
+        for &f in faces {
             let f = f as usize;
             let patch = self.patches.of_face(f);
             if placed.normals[..placed.count as usize].iter().any(|(p, _)| *p == patch) {
@@ -256,7 +261,8 @@ impl Surface<'_> {
         state.hints[v] = at.hint;
         for &f in self.topo.vertex_quads(v) {
             let f = f as usize;
-            let normal = at.normal_for(self.patches.of_face(f));
+            // One patch (a free vertex): its normal, whatever the face's patch.
+            let normal = if at.count == 1 { at.normals[0].1 } else { at.normal_for(self.patches.of_face(f)) };
             let cv = corner_vertices(&self.faces[f]);
             for (k, &u) in cv.iter().enumerate() {
                 if u as usize == v {

@@ -4,7 +4,7 @@
 
 use glam::DVec2;
 
-use super::slack::Slack;
+use super::slack::{Displacement, Slack};
 use super::star::{Chart, LocalStar, Motion, Placed, Score, State, Surface};
 use super::tracks::Slot;
 use crate::smooth::options::Method;
@@ -36,6 +36,29 @@ pub struct StepRule {
     pub with_laplacian: bool,
 }
 
+/// A vertex's step in a sweep: where it moves (if it does), the energy before it, and what
+/// the certificates record of the move when one took it (else the sweep computes that).
+pub struct Step {
+    pub to: Option<Placed>,
+    pub energy: f64,
+    pub certified: Option<Displacement>,
+}
+
+impl Step {
+    /// A step from a guarded move and the energy.
+    pub fn new(to: Option<(Placed, Option<Displacement>)>, energy: f64) -> Step {
+        match to {
+            Some((to, certified)) => Step { to: Some(to), energy, certified },
+            None => Step { to: None, energy, certified: None },
+        }
+    }
+
+    /// A step to `to` (or none) that no certificate took.
+    pub fn uncertified(to: Option<Placed>, energy: f64) -> Step {
+        Step { to, energy, certified: None }
+    }
+}
+
 /// Whether `candidate` passes the guard from `current`: no more inverted faces and a minimum
 /// of at least min(current minimum, floor); from a tangled star, not worse.
 fn guard_accepts(candidate: &Score, current: &Score, floor: f64) -> bool {
@@ -63,7 +86,7 @@ pub fn smoothing_move(
     rule: &StepRule,
     star: &mut LocalStar,
     slack: Option<&Slack>,
-) -> (Option<Placed>, f64) {
+) -> Step {
     if let Motion::Free(_) = surface.motion[v] {
         let (chart, here) = chart_of(surface, state, v, star);
         // The torsion energy of the vertex's embedded polygon in its chart (Eq. 1).
@@ -78,7 +101,10 @@ pub fn smoothing_move(
             }
         };
         if !rule.with_laplacian {
-            return (free_move(surface, state, v, rule, star, (chart, here), target, slack), ep.energy);
+            return Step::new(
+                free_move(surface, state, v, rule, star, (chart, here), target, slack),
+                ep.energy,
+            );
         }
         // Both targets compared in the chart, then only the one preferred there projected and
         // guarded on the surface; the other only if the guard finds no step towards it.
@@ -89,12 +115,13 @@ pub fn smoothing_move(
         let (first, second) = if lap_first { (lap, target) } else { (target, lap) };
         let chosen = free_move(surface, state, v, rule, star, (chart, here), first, slack)
             .or_else(|| free_move(surface, state, v, rule, star, (chart, here), second, slack));
-        return (chosen, ep.energy);
+        return Step::new(chosen, ep.energy);
     }
-    (curve_or_still_move(surface, state, v, rule, slack), 0.0)
+    Step::new(curve_or_still_move(surface, state, v, rule, slack), 0.0)
 }
 
-/// The guarded step of free vertex `v` towards chart position `target`.
+/// The guarded step of free vertex `v` towards chart position `target`, with what the
+/// certificates record of it when one took it.
 fn free_move(
     surface: &Surface,
     state: &State,
@@ -104,7 +131,7 @@ fn free_move(
     (chart, here): (Chart, Placed),
     target: DVec2,
     slack: Option<&Slack>,
-) -> Option<Placed> {
+) -> Option<(Placed, Option<Displacement>)> {
     match surface.motion[v] {
         Motion::Still | Motion::Curve(_) => None,
         Motion::Free(patch) => {
@@ -114,21 +141,22 @@ fn free_move(
             }
             let place = |x: DVec2| surface.place_free(patch, chart.lift(x), here.hint);
             if !rule.guard {
-                return Some(place(step));
+                return Some((place(step), None));
             }
             // A target at or above the floor is acceptable whatever the current star (as in the
             // plane), so the current star is scored only when needed.
             let first = place(step);
-            if slack.is_some_and(|s| s.certifies(surface, state, v, &first)) {
-                return moved(first, &here);
+            if let Some(d) = slack.and_then(|s| s.certify(surface, state, v, &first)) {
+                return moved(first, &here).map(|p| (p, Some(d)));
             }
+            let scored = |p: Placed| moved(p, &here).map(|p| (p, None));
             let first_score = surface.star_score_at(state, v, star, &first);
             if first_score.inverted == 0 && first_score.min >= rule.floor {
-                return moved(first, &here);
+                return scored(first);
             }
             let current = surface.star_score(state, v, None);
             if guard_accepts(&first_score, &current, rule.floor) {
-                return moved(first, &here);
+                return scored(first);
             }
             let mut s = step;
             for _ in 0..MAX_HALVINGS {
@@ -136,7 +164,7 @@ fn free_move(
                 let candidate = place(s);
                 let score = surface.star_score_at(state, v, star, &candidate);
                 if guard_accepts(&score, &current, rule.floor) {
-                    return moved(candidate, &here);
+                    return scored(candidate);
                 }
             }
             if current.min >= PERFECT {
@@ -144,19 +172,20 @@ fn free_move(
             }
             // Stuck: the direction that raises the star's smallest corner in the chart, the
             // longest step along it that makes the star strictly better on the surface.
-            untangling_move(surface, state, v, star, (&chart, &here), &current)
+            untangling_move(surface, state, v, star, (&chart, &here), &current).map(|p| (p, None))
         }
     }
 }
 
-/// The guarded step of on-curve vertex `v` towards the middle of its interval.
+/// The guarded step of on-curve vertex `v` towards the middle of its interval, with what the
+/// certificates record of it when one took it.
 fn curve_or_still_move(
     surface: &Surface,
     state: &State,
     v: usize,
     rule: &StepRule,
     slack: Option<&Slack>,
-) -> Option<Placed> {
+) -> Option<(Placed, Option<Displacement>)> {
     match surface.motion[v] {
         Motion::Still | Motion::Free(_) => None,
         Motion::Curve(slot) => {
@@ -168,27 +197,28 @@ fn curve_or_still_move(
                 return None;
             }
             if !rule.guard {
-                return Some(surface.place_on_curve(v, slot, s0 + step));
+                return Some((surface.place_on_curve(v, slot, s0 + step), None));
             }
             let here = surface.current(state, v);
             let first = surface.place_on_curve(v, slot, s0 + step);
-            if slack.is_some_and(|s| s.certifies(surface, state, v, &first)) {
-                return moved(first, &here);
+            if let Some(d) = slack.and_then(|s| s.certify(surface, state, v, &first)) {
+                return moved(first, &here).map(|p| (p, Some(d)));
             }
+            let scored = |p: Placed| moved(p, &here).map(|p| (p, None));
             let first_score = surface.star_score(state, v, Some(&first));
             if first_score.inverted == 0 && first_score.min >= rule.floor {
-                return moved(first, &here);
+                return scored(first);
             }
             let current = surface.star_score(state, v, None);
             if guard_accepts(&first_score, &current, rule.floor) {
-                return moved(first, &here);
+                return scored(first);
             }
             let mut d = step;
             for _ in 0..MAX_HALVINGS {
                 d *= 0.5;
                 let candidate = surface.place_on_curve(v, slot, s0 + d);
                 if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
-                    return moved(candidate, &here);
+                    return scored(candidate);
                 }
             }
             None

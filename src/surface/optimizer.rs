@@ -8,12 +8,12 @@ use std::time::Instant;
 
 use super::features::{SurfaceFeatures, VertexRole};
 use super::mesh::SurfaceMesh;
-use super::moves::{self, StepRule};
+use super::moves::{self, Step, StepRule};
 use super::patches::{Patches, corner_vertices};
 use super::reference::{NO_TRIANGLE, ReferenceSurface};
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
-use super::slack::{Displacement, Slack};
-use super::star::{LocalStar, MAX_PATCHES, Motion, Placed, State, Surface};
+use super::slack::Slack;
+use super::star::{LocalStar, MAX_PATCHES, Motion, State, Surface};
 use super::tracks::Tracks;
 use crate::error::{Error, Result};
 use crate::face::Face;
@@ -412,7 +412,7 @@ impl SurfaceOptimizer {
             while untangle_sweeps < UNTANGLE_SWEEPS {
                 untangle_sweeps += 1;
                 let (moved, _) = self.sweep(&mut state, None, |surface, state, v, star, _| {
-                    (moves::untangle_move(surface, state, v, star), 0.0)
+                    Step::uncertified(moves::untangle_move(surface, state, v, star), 0.0)
                 });
                 consider(&state, &mut best, tie);
                 let inverted = QualityStats::from_values(&self.values(&state)).inverted;
@@ -448,7 +448,8 @@ impl SurfaceOptimizer {
         let curves_move = options.boundary != BoundaryMode::Fixed;
         let movable = self.motion.iter().filter(|m| **m != Motion::Still).count();
         let mut stopper = Stopper::new(options, movable);
-        let start_values = self.values(&state);
+        // The input's values again unless untangling moved something.
+        let start_values = if untangle_sweeps == 0 { values.clone() } else { self.values(&state) };
         stopper.start(&QualityStats::from_values(&start_values), &best.0);
         // The guard's first test by certificate where it can (src/surface/slack.rs).
         let mut slack = options.guard.then(|| Slack::new(&surface, &state, &start_values, floor));
@@ -458,7 +459,7 @@ impl SurfaceOptimizer {
             iterations += 1;
             let (moved, energy) = self.sweep(&mut state, slack.as_mut(), |surface, state, v, star, slack| {
                 if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
-                    return (None, 0.0);
+                    return Step::uncertified(None, 0.0);
                 }
                 moves::smoothing_move(surface, state, v, &rule, star, slack)
             });
@@ -486,7 +487,7 @@ impl SurfaceOptimizer {
             }
         }
         if options.keep_best {
-            state = best.1.clone();
+            state = best.1;
         }
 
         // 3. The max-min stage, from the kept iterate; each round kept only if it ranks better.
@@ -530,7 +531,7 @@ impl SurfaceOptimizer {
                 let mut trial = kept.1.clone();
                 self.sweep(&mut trial, None, |surface, state, v, star, _| {
                     if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
-                        return (None, 0.0);
+                        return Step::uncertified(None, 0.0);
                     }
                     moves::smoothing_move(surface, state, v, &rule, star, None)
                 });
@@ -552,35 +553,37 @@ impl SurfaceOptimizer {
         &self,
         state: &mut State,
         mut slack: Option<&mut Slack>,
-        step: impl Fn(&Surface, &State, usize, &mut LocalStar, Option<&Slack>) -> (Option<Placed>, f64) + Sync,
+        step: impl Fn(&Surface, &State, usize, &mut LocalStar, Option<&Slack>) -> Step + Sync,
     ) -> (usize, f64) {
         let surface = self.surface();
         let (mut moved, mut energy) = (0, 0.0);
+        let mut moves: Vec<(u32, Step)> = Vec::new();
         for c in 0..self.topo.colour_count() {
             let class = self.topo.colour_class(c);
             let certificates = slack.as_deref();
             // The move, and what the certificates record of it, computed in parallel; only
             // writing them is left to the ordered loop below.
             let compute = |star: &mut LocalStar, &v: &u32| {
-                let (p, e) = step(&surface, state, v as usize, star, certificates);
-                let d = match (&p, certificates) {
-                    (Some(p), Some(s)) => s.displacement(&surface, state, v as usize, p),
-                    _ => Displacement::default(),
-                };
-                (v, p, e, d)
+                let mut s = step(&surface, state, v as usize, star, certificates);
+                if let (Some(to), Some(slack), None) = (&s.to, certificates, &s.certified) {
+                    s.certified = Some(slack.displacement(&surface, state, v as usize, to));
+                }
+                (v, s)
             };
-            let moves: Vec<(u32, Option<Placed>, f64, Displacement)> = if class.len() >= PARALLEL_MIN {
-                class.par_iter().map_init(LocalStar::default, compute).collect()
+            // One buffer for every class (a fresh one per class cost page faults).
+            if class.len() >= PARALLEL_MIN {
+                class.par_iter().map_init(LocalStar::default, compute).collect_into_vec(&mut moves);
             } else {
                 let mut star = LocalStar::default();
-                class.iter().map(|v| compute(&mut star, v)).collect()
-            };
-            for (v, p, e, d) in &moves {
-                energy += e;
-                if let Some(p) = p {
+                moves.clear();
+                moves.extend(class.iter().map(|v| compute(&mut star, v)));
+            }
+            for (v, s) in &moves {
+                energy += s.energy;
+                if let Some(p) = &s.to {
                     surface.apply(state, *v as usize, p);
-                    if let Some(slack) = slack.as_deref_mut() {
-                        slack.record(*v as usize, *d);
+                    if let (Some(slack), Some(d)) = (slack.as_deref_mut(), s.certified) {
+                        slack.record(*v as usize, d);
                     }
                     moved += 1;
                 }

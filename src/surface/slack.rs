@@ -171,30 +171,38 @@ impl Slack {
     }
 
     /// Whether `v` at `at` certainly leaves every face of its star above the floor with no
-    /// face inverted (what the guard's first test would find by scoring the star). `false`
+    /// face inverted (what the guard's first test would find by scoring the star): if so, the
+    /// move's [`displacement`](Self::displacement), which it has computed on the way; `None`
     /// means only "not certain". `state` has `v` where it is before this move.
-    pub fn certifies(&self, surface: &Surface, state: &State, v: usize, at: &Placed) -> bool {
-        let own = f64::from(up(f64::from(self.moved[v]) + (at.point - state.points[v]).length()));
-        let own_turn = f64::from(self.turned[v]);
-        surface.topo.vertex_quads(v).iter().all(|&f| {
+    pub fn certify(&self, surface: &Surface, state: &State, v: usize, at: &Placed) -> Option<Displacement> {
+        let moved = up(f64::from(self.moved[v]) + (at.point - state.points[v]).length());
+        let (own, own_turn) = (f64::from(moved), f64::from(self.turned[v]));
+        // The largest turn of v's own normals, over its faces.
+        let mut turn = 0.0f64;
+        for &f in surface.topo.vertex_quads(v) {
             let f = f as usize;
             let (budget, per_length) = self.budget[f];
             if budget <= 0.0 {
-                return false;
+                return None;
             }
             let (mut d, mut n) = (own, 0.0f64);
             for (k, &u) in corner_vertices(&surface.faces[f]).iter().enumerate() {
                 let u = u as usize;
                 if u == v {
                     let normal = at.normal_for(surface.patches.of_face(f));
-                    n = larger(n, own_turn + (normal - state.normals[f][k]).length());
+                    let t = (normal - state.normals[f][k]).length();
+                    turn = larger(turn, t);
+                    n = larger(n, own_turn + t);
                 } else {
                     d = larger(d, f64::from(self.moved[u]));
                     n = larger(n, f64::from(self.turned[u]));
                 }
             }
-            d * f64::from(per_length) + n < f64::from(budget)
-        })
+            if !(d * f64::from(per_length) + n < f64::from(budget)) {
+                return None;
+            }
+        }
+        Some(Displacement { moved, turned: up(own_turn + turn) })
     }
 }
 
@@ -243,7 +251,7 @@ mod tests {
                     let step = DVec3::new(rnd(), rnd(), rnd()) * size;
                     let candidate = surface.place_free(patch, here.point + step, here.hint);
                     tried += 1;
-                    if slack.certifies(&surface, &state, v, &candidate) {
+                    if slack.certify(&surface, &state, v, &candidate).is_some() {
                         certified += 1;
                         let score = surface.star_score(&state, v, Some(&candidate));
                         assert!(score.inverted == 0 && score.min >= floor, "{v} {score:?} floor {floor}");

@@ -160,6 +160,32 @@ fn tube(m: u32, k: u32) -> (Vec<DVec3>, Vec<Face>) {
 }
 
 #[test]
+fn the_max_min_stage_runs_only_below_a_nearly_perfect_minimum() {
+    // A fine tube of nearly square faces: the sweeps end within 1e-3 of a perfect minimum,
+    // where the stage has nothing to gain (the plane's rule).
+    let (m, k) = (96, 24);
+    let (points, faces) = tube(m, k);
+    let rim = |v: usize| v < m as usize || v >= (m * k) as usize;
+    let mut fine = points.clone();
+    let radial = |p: DVec3| DVec3::new(p.x, p.y, 0.0).normalize();
+    perturb(&mut fine, 9, 0.002, rim, radial, |p| {
+        let r = radial(p);
+        DVec3::new(r.x, r.y, p.z)
+    });
+    let mut mesh = SurfaceMesh::new(fine, faces, None).unwrap();
+    let report = run(&mut mesh, &Options::default().with_effort(Effort::Balanced));
+    check_guarantees(&report);
+    assert!(report.output.min >= 1.0 - 1e-3, "{report:?}");
+    assert!(report.max_min.is_none(), "{report:?}");
+    // A perturbed sphere stays further from it: the stage runs.
+    let mut sphere = perturbed_sphere(6, 0.3, 3);
+    let report = run(&mut sphere, &Options::default().with_effort(Effort::Balanced));
+    check_guarantees(&report);
+    assert!(report.output.min < 1.0 - 1e-3, "{report:?}");
+    assert!(report.max_min.is_some(), "{report:?}");
+}
+
+#[test]
 fn tube_rims_are_slid_along_and_the_wall_is_kept() {
     let (m, k) = (24, 8);
     let (mut points, faces) = tube(m, k);

@@ -58,7 +58,7 @@ fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64
 }
 
 /// How far a vertex has moved and its normals turned since the budgets' state, rounded up.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Displacement {
     moved: f32,
     turned: f32,
@@ -251,8 +251,10 @@ mod tests {
                     let step = DVec3::new(rnd(), rnd(), rnd()) * size;
                     let candidate = surface.place_free(patch, here.point + step, here.hint);
                     tried += 1;
-                    if slack.certify(&surface, &state, v, &candidate).is_some() {
+                    if let Some(d) = slack.certify(&surface, &state, v, &candidate) {
                         certified += 1;
+                        // What the certificate records is the move's displacement, bit for bit.
+                        assert_eq!(d, slack.displacement(&surface, &state, v, &candidate));
                         let score = surface.star_score(&state, v, Some(&candidate));
                         assert!(score.inverted == 0 && score.min >= floor, "{v} {score:?} floor {floor}");
                     }

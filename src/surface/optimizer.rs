@@ -162,15 +162,19 @@ impl SurfaceOptimizer {
         }
     }
 
-    /// The signed scaled Jacobian of every face at `state`.
-    pub(super) fn values(&self, state: &State) -> Vec<f64> {
-        let surface = self.surface();
-        let value = |f: usize| surface.face_value(state, f, None);
+    /// `value` of every face, in parallel on large meshes (the same values either way).
+    fn per_face(&self, value: impl Fn(usize) -> f64 + Sync + Send) -> Vec<f64> {
         if self.faces.len() >= 4 * PARALLEL_MIN {
             (0..self.faces.len()).into_par_iter().map(value).collect()
         } else {
             (0..self.faces.len()).map(value).collect()
         }
+    }
+
+    /// The signed scaled Jacobian of every face at `state`.
+    pub(super) fn values(&self, state: &State) -> Vec<f64> {
+        let surface = self.surface();
+        self.per_face(|f| surface.face_value(state, f, None))
     }
 
     /// The signed scaled Jacobian of every face of the input (each corner against its
@@ -271,15 +275,12 @@ impl SurfaceOptimizer {
 
     /// What the report measures of a run's result, computed on the run's pool.
     fn measure_end(&self, state: &State) -> EndMeasures {
+        // Verdict's values as `quality3d::verdict_values`, per face in parallel.
         let verdict = |points: &[DVec3]| {
-            let value =
-                |f: &Face| crate::quality3d::verdict_scaled_jacobian(&crate::quality3d::corners(points, f));
-            let values: Vec<f64> = if self.faces.len() >= 4 * PARALLEL_MIN {
-                self.faces.par_iter().map(value).collect()
-            } else {
-                self.faces.iter().map(value).collect()
-            };
-            QualityStats::from_values(&values)
+            let corners = |f: usize| crate::quality3d::corners(points, &self.faces[f]);
+            QualityStats::from_values(
+                &self.per_face(|f| crate::quality3d::verdict_scaled_jacobian(&corners(f))),
+            )
         };
         EndMeasures {
             values: self.values(state),

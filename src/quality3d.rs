@@ -264,6 +264,12 @@ impl MovingCorner {
         c
     }
 
+    /// The moving corner's number in the quad.
+    #[inline]
+    pub(crate) fn corner(&self) -> usize {
+        self.k
+    }
+
     /// The quad's [`signed_scaled_jacobian_unit`] with the moving corner at `p`, its normal
     /// `normal`.
     #[inline]

@@ -59,13 +59,23 @@ impl Step {
     }
 }
 
-/// Whether `candidate` passes the guard from `current`: no more inverted faces and a minimum
-/// of at least min(current minimum, floor); from a tangled star, not worse.
+/// Whether `candidate` passes the guard from `current`: no more faces below their bounds, no
+/// more inverted faces and a minimum of at least min(current minimum, floor); from a tangled
+/// star, not worse.
 fn guard_accepts(candidate: &Score, current: &Score, floor: f64) -> bool {
+    if candidate.below > current.below {
+        return false;
+    }
     if current.inverted > 0 || current.min <= 0.0 {
         return !current.better_than(candidate);
     }
     candidate.inverted == 0 && candidate.min >= current.min.min(floor)
+}
+
+/// Whether `score` is acceptable whatever the current star: no face inverted or below its
+/// bound, and a minimum at or above the floor.
+fn above_floor(score: &Score, floor: f64) -> bool {
+    score.below == 0 && score.inverted == 0 && score.min >= floor
 }
 
 /// The chart of free vertex `v` and its star in it.
@@ -151,7 +161,7 @@ fn free_move(
             }
             let scored = |p: Placed| moved(p, &here).map(|p| (p, None));
             let first_score = surface.star_score_at(state, v, star, &first);
-            if first_score.inverted == 0 && first_score.min >= rule.floor {
+            if above_floor(&first_score, rule.floor) {
                 return scored(first);
             }
             let current = surface.star_score(state, v, None);
@@ -206,7 +216,7 @@ fn curve_or_still_move(
             }
             let scored = |p: Placed| moved(p, &here).map(|p| (p, None));
             let first_score = surface.star_score(state, v, Some(&first));
-            if first_score.inverted == 0 && first_score.min >= rule.floor {
+            if above_floor(&first_score, rule.floor) {
                 return scored(first);
             }
             let current = surface.star_score(state, v, None);

@@ -13,7 +13,7 @@ use super::patches::{Patches, corner_vertices};
 use super::reference::{NO_TRIANGLE, ReferenceSurface};
 use super::report::{SurfaceFidelity, SurfaceMeasure, SurfaceReport};
 use super::slack::Slack;
-use super::star::{LocalStar, MAX_PATCHES, Motion, State, Surface};
+use super::star::{Bound, LocalStar, MAX_PATCHES, Motion, State, Surface};
 use super::tracks::Tracks;
 use crate::error::{Error, Result};
 use crate::face::Face;
@@ -153,12 +153,18 @@ impl SurfaceOptimizer {
     }
 
     pub(super) fn surface(&self) -> Surface<'_> {
+        self.bounded(&[])
+    }
+
+    /// The surface whose faces may not fall below `bounds` (one per face).
+    pub(super) fn bounded<'a>(&'a self, bounds: &'a [Bound]) -> Surface<'a> {
         Surface {
             faces: &self.faces,
             topo: &self.topo,
             patches: &self.patches,
             tracks: &self.tracks,
             motion: &self.motion,
+            bounds,
         }
     }
 
@@ -340,16 +346,15 @@ impl SurfaceOptimizer {
             state.points = points.to_vec();
             for (f, face) in self.faces.iter().enumerate() {
                 let patch = self.patches.of_face(f);
-                state.normals[f] = corner_vertices(face).map(|u| {
-                    let p = points[u as usize];
-                    if p == self.input_points[u as usize] {
-                        // The input's own normal, bit for bit.
-                        let k = corner_vertices(face).iter().position(|&w| w == u).unwrap_or(0);
-                        self.patches.input_corner_normals()[f][k]
-                    } else {
-                        self.patches.project(patch, p, NO_TRIANGLE).normal
+                let cv = corner_vertices(face);
+                for k in 0..4 {
+                    let p = points[cv[k] as usize];
+                    // The input's own normal, bit for bit, where the vertex has not moved or
+                    // the corner is measured against its face's own normal.
+                    if p != self.input_points[cv[k] as usize] && !self.patches.is_own(f, k) {
+                        state.normals[f][k] = self.patches.project(patch, p, NO_TRIANGLE).normal;
                     }
-                });
+                }
             }
         }
         let values = self.values(&state);
@@ -375,24 +380,41 @@ impl SurfaceOptimizer {
         })
     }
 
+    /// Verdict's value of every face with its corners at `points`.
+    fn verdicts(&self, points: &[DVec3]) -> Vec<f64> {
+        self.per_face(|f| {
+            crate::quality3d::verdict_scaled_jacobian(&crate::quality3d::corners(points, &self.faces[f]))
+        })
+    }
+
     /// The run on the current thread's pool.
     fn run_here(&self, options: &Options, mut progress: Option<&mut dyn FnMut(&Progress) -> bool>) -> Run {
-        let surface = self.surface();
         let mut state = self.initial_state();
         let values = self.values(&state);
+        let input_verdicts = self.verdicts(&state.points);
         let input = QualityStats::from_values(&values);
-        let input_inverted: Vec<bool> = values.iter().map(|&v| v <= 0.0).collect();
-        let inverts_a_valid_face = |values: &[f64]| {
-            input.inverted > 0 && values.iter().zip(&input_inverted).any(|(&v, &was)| v <= 0.0 && !was)
-        };
+        let input_verdict = QualityStats::from_values(&input_verdicts);
+        // Every face's bounds in both measures: no move goes below them, and what ends below
+        // them after rounding goes back (`restore_below_bounds`).
+        let bounds = Bound::of_input(&values, &input_verdicts, options.guard_floor);
+        let surface = self.bounded(&bounds);
+        let input_both = Both::new(input, input_verdict);
         let rounds = if options.max_min { max_min_rounds(options.effort) } else { 0 };
         let tie = if rounds > 0 { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
-        let mut best = (input, state.clone());
-        let consider = |state: &State, best: &mut (QualityStats, State), tie: f64| -> bool {
+        let mut best = (input_both, state.clone());
+        // An iterate is kept when it ranks better in both measures together, keeps every face
+        // at or above its bounds, and is not worse than the input in either measure.
+        let ranks_better = |candidate: &Both, values: (&[f64], &[f64]), best: &Both, tie: f64| {
+            candidate.not_worse_than(&input_both)
+                && within(values.0, values.1, &bounds)
+                && improves_with_tie(&candidate.ranked, &best.ranked, &input_both.ranked, tie)
+        };
+        let consider = |state: &State, best: &mut (Both, State), tie: f64| -> bool {
             let values = self.values(state);
-            let stats = QualityStats::from_values(&values);
-            if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
-                *best = (stats, state.clone());
+            let verdicts = self.verdicts(&state.points);
+            let both = Both::of(&values, &verdicts);
+            if ranks_better(&both, (&values, &verdicts), &best.0, tie) {
+                *best = (both, state.clone());
                 return true;
             }
             false
@@ -404,19 +426,29 @@ impl SurfaceOptimizer {
                 Progress { iteration, max_iterations: sweep_cap, energy, energy_change, pass: 1, passes: 1 };
             progress.as_mut().is_none_or(|cb| cb(&p))
         };
+        // With `BoundaryMode::Fixed`, vertices on feature curves never move (in every stage).
+        let curves_move = options.boundary != BoundaryMode::Fixed;
+        let may_move =
+            |surface: &Surface, v: usize| curves_move || !matches!(surface.motion[v], Motion::Curve(_));
 
         // 1. Untangling.
         let mut untangle_sweeps = 0;
-        if options.untangle && input.inverted > 0 {
-            let mut lowest = input.inverted;
+        if options.untangle && (input.inverted > 0 || input_verdict.inverted > 0) {
+            let mut lowest = input.inverted + input_verdict.inverted;
             let mut stale = 0;
             while untangle_sweeps < UNTANGLE_SWEEPS {
                 untangle_sweeps += 1;
-                let (moved, _) = self.sweep(&mut state, None, |surface, state, v, star, _| {
-                    Step::uncertified(moves::untangle_move(surface, state, v, star), 0.0)
+                let (moved, _) = self.sweep(&surface, &mut state, None, |surface, state, v, star, _| {
+                    let to = if may_move(surface, v) {
+                        moves::untangle_move(surface, state, v, star)
+                    } else {
+                        None
+                    };
+                    Step::uncertified(to, 0.0)
                 });
                 consider(&state, &mut best, tie);
-                let inverted = QualityStats::from_values(&self.values(&state)).inverted;
+                let inverted = QualityStats::from_values(&self.values(&state)).inverted
+                    + QualityStats::from_values(&self.verdicts(&state.points)).inverted;
                 if !report(0, f64::NAN, f64::NAN) {
                     cancelled = true;
                     break;
@@ -446,36 +478,37 @@ impl SurfaceOptimizer {
             floor,
             with_laplacian,
         };
-        let curves_move = options.boundary != BoundaryMode::Fixed;
         let movable = self.motion.iter().filter(|m| **m != Motion::Still).count();
         let mut stopper = Stopper::new(options, movable);
         // The input's values again unless untangling moved something.
         let start_values = if untangle_sweeps == 0 { values.clone() } else { self.values(&state) };
-        stopper.start(&QualityStats::from_values(&start_values), &best.0);
+        stopper.start(&QualityStats::from_values(&start_values), &best.0.signed);
         // The guard's first test by certificate where it can (src/surface/slack.rs).
         let mut slack = options.guard.then(|| Slack::new(&surface, &state, &start_values, floor));
         let stale_limit = options.effort.stale_sweeps().filter(|_| options.stop == StopRule::Quality);
         let (mut iterations, mut stale) = (0, 0);
         while !cancelled && iterations < sweep_cap {
             iterations += 1;
-            let (moved, energy) = self.sweep(&mut state, slack.as_mut(), |surface, state, v, star, slack| {
-                if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
-                    return Step::uncertified(None, 0.0);
-                }
-                moves::smoothing_move(surface, state, v, &rule, star, slack)
-            });
-            let kept_before = best.0;
-            let values = match slack.as_mut() {
+            let (moved, energy) =
+                self.sweep(&surface, &mut state, slack.as_mut(), |surface, state, v, star, slack| {
+                    if !may_move(surface, v) {
+                        return Step::uncertified(None, 0.0);
+                    }
+                    moves::smoothing_move(surface, state, v, &rule, star, slack)
+                });
+            let kept_before = best.0.ranked;
+            let (values, verdicts) = match slack.as_mut() {
                 Some(slack) => slack.values_and_reset(&surface, &state, floor),
-                None => self.values(&state),
+                None => (self.values(&state), self.verdicts(&state.points)),
             };
             let stats = QualityStats::from_values(&values);
-            if !inverts_a_valid_face(&values) && improves_with_tie(&stats, &best.0, &input, tie) {
-                best.0 = stats;
+            let both = Both::of(&values, &verdicts);
+            if ranks_better(&both, (&values, &verdicts), &best.0, tie) {
+                best.0 = both;
                 best.1.clone_from(&state);
             }
-            stale = if stopping::same(&kept_before, &best.0) { stale + 1 } else { 0 };
-            let kept = if options.keep_best { best.0 } else { stats };
+            stale = if stopping::same(&kept_before, &best.0.ranked) { stale + 1 } else { 0 };
+            let kept = if options.keep_best { best.0.signed } else { stats };
             let verdict = stopper.after_sweep(&stats, &kept, energy);
             if !report(iterations, energy, verdict.energy_change) {
                 cancelled = true;
@@ -495,24 +528,36 @@ impl SurfaceOptimizer {
         // A minimum within the ranking's tie threshold of a perfect face has nothing to gain
         // (the plane's rule).
         let mut max_min = None;
-        let kept_min =
-            if options.keep_best { best.0.min } else { QualityStats::from_values(&self.values(&state)).min };
+        let kept_min = if options.keep_best {
+            best.0.signed.min
+        } else {
+            QualityStats::from_values(&self.values(&state)).min
+        };
         if rounds > 0 && !cancelled && kept_min < 1.0 - MIN_TIE {
             let t = Instant::now();
-            let before = best.0;
+            let before = best.0.signed;
             let mut done = 0;
-            let mut current = (QualityStats::from_values(&self.values(&state)), state.clone());
+            let values = self.values(&state);
+            let verdicts = self.verdicts(&state.points);
+            let mut current = (Both::of(&values, &verdicts), state.clone());
             for _ in 0..rounds {
                 let values = self.values(&current.1);
                 let mut trial = current.1.clone();
-                let moved = self.max_min_round(&surface, &mut trial, &values);
+                let moved = self.max_min_round(&surface, &mut trial, &values, curves_move, &mut || {
+                    report(iterations, f64::NAN, f64::NAN)
+                });
                 done += 1;
-                let gained = moved > 0 && consider(&trial, &mut current, MIN_TIE.min(1e-9));
+                let stopped = moved.is_none();
+                let gained = moved.unwrap_or(1) > 0 && consider(&trial, &mut current, MIN_TIE.min(1e-9));
+                if stopped || !report(iterations, f64::NAN, f64::NAN) {
+                    cancelled = true;
+                    break;
+                }
                 if !gained {
                     break;
                 }
             }
-            if current.0 != before || !options.keep_best {
+            if current.0.signed != before || !options.keep_best {
                 state = current.1;
             }
             max_min = Some(crate::smooth::report::MaxMinGain {
@@ -526,24 +571,67 @@ impl SurfaceOptimizer {
         // minimum is kept; each kept only if it ranks better (docs/surfaces.md).
         if max_min.is_some() && !cancelled {
             let values = self.values(&state);
-            let mut kept = (QualityStats::from_values(&values), state.clone());
-            let rule = StepRule { floor: kept.0.min.max(options.guard_floor), ..rule };
+            let verdicts = self.verdicts(&state.points);
+            let mut kept = (Both::of(&values, &verdicts), state.clone());
+            let rule = StepRule { floor: kept.0.signed.min.max(options.guard_floor), ..rule };
             for _ in 0..recovery_sweeps(options.effort) {
                 let mut trial = kept.1.clone();
-                self.sweep(&mut trial, None, |surface, state, v, star, _| {
-                    if !curves_move && matches!(surface.motion[v], Motion::Curve(_)) {
+                self.sweep(&surface, &mut trial, None, |surface, state, v, star, _| {
+                    if !may_move(surface, v) {
                         return Step::uncertified(None, 0.0);
                     }
                     moves::smoothing_move(surface, state, v, &rule, star, None)
                 });
-                if !consider(&trial, &mut kept, MIN_TIE) {
+                if !consider(&trial, &mut kept, MIN_TIE) || !report(iterations, f64::NAN, f64::NAN) {
                     break;
                 }
             }
             state = kept.1;
         }
+        self.restore_below_bounds(&mut state, &bounds);
         let end = self.measure_end(&state);
         Run { state, input, input_values: values, iterations, untangle_sweeps, cancelled, max_min, end }
+    }
+
+    /// Puts back at their input positions the moved vertices of every face below its bound in
+    /// either measure, round after round until none is (at worst the input, where every face
+    /// is at its input value): the guarantee, whatever path the run took (no guard, the
+    /// rounding of a projection).
+    fn restore_below_bounds(&self, state: &mut State, bounds: &[Bound]) -> usize {
+        let initial = self.initial_state();
+        let mut restored = 0;
+        loop {
+            let values = self.values(state);
+            let verdicts = self.verdicts(&state.points);
+            let mut changed = false;
+            for (f, b) in bounds.iter().enumerate() {
+                if values[f] >= b.signed && verdicts[f] >= b.verdict {
+                    continue;
+                }
+                for &v in crate::face::vertices(&self.faces[f]) {
+                    let v = v as usize;
+                    if state.points[v] == initial.points[v] {
+                        continue;
+                    }
+                    state.points[v] = initial.points[v];
+                    state.params[v] = initial.params[v];
+                    state.hints[v] = initial.hints[v];
+                    for &g in self.topo.vertex_quads(v) {
+                        let g = g as usize;
+                        for (k, &u) in corner_vertices(&self.faces[g]).iter().enumerate() {
+                            if u as usize == v {
+                                state.normals[g][k] = initial.normals[g][k];
+                            }
+                        }
+                    }
+                    restored += 1;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return restored;
+            }
+        }
     }
 
     /// One sweep, colour class by colour class: each class's moves computed from the same
@@ -552,11 +640,11 @@ impl SurfaceOptimizer {
     /// Returns how many vertices moved and the sum of the energies (in a fixed order).
     fn sweep(
         &self,
+        surface: &Surface,
         state: &mut State,
         mut slack: Option<&mut Slack>,
         step: impl Fn(&Surface, &State, usize, &mut LocalStar, Option<&Slack>) -> Step + Sync,
     ) -> (usize, f64) {
-        let surface = self.surface();
         let (mut moved, mut energy) = (0, 0.0);
         let mut moves: Vec<(u32, Step)> = Vec::new();
         for c in 0..self.topo.colour_count() {
@@ -565,9 +653,9 @@ impl SurfaceOptimizer {
             // The move, and what the certificates record of it, computed in parallel; only
             // writing them is left to the ordered loop below.
             let compute = |star: &mut LocalStar, &v: &u32| {
-                let mut s = step(&surface, state, v as usize, star, certificates);
+                let mut s = step(surface, state, v as usize, star, certificates);
                 if let (Some(to), Some(slack), None) = (&s.to, certificates, &s.certified) {
-                    s.certified = Some(slack.displacement(&surface, state, v as usize, to));
+                    s.certified = Some(slack.displacement(surface, state, v as usize, to));
                 }
                 (v, s)
             };
@@ -595,8 +683,16 @@ impl SurfaceOptimizer {
 
     /// One round of the max-min stage: the movable vertices of the worst faces (the lowest
     /// 2%, at least 4, and every inverted one), one after the other in vertex order, each to
-    /// the best place its search finds.
-    fn max_min_round(&self, surface: &Surface, state: &mut State, values: &[f64]) -> usize {
+    /// the best place its search finds. `go_on` is asked every [`ROUND_PROGRESS`] vertices;
+    /// `None` when it said stop (the vertices done so far keep their moves).
+    fn max_min_round(
+        &self,
+        surface: &Surface,
+        state: &mut State,
+        values: &[f64],
+        curves_move: bool,
+        go_on: &mut dyn FnMut() -> bool,
+    ) -> Option<usize> {
         let mut sorted: Vec<f64> = values.to_vec();
         sorted.sort_unstable_by(f64::total_cmp);
         let k = (values.len() / 50).max(4).min(values.len());
@@ -604,25 +700,70 @@ impl SurfaceOptimizer {
         let mut vertices: Vec<u32> = Vec::new();
         for (f, &value) in values.iter().enumerate() {
             if value <= threshold {
-                vertices.extend(
-                    crate::face::vertices(&self.faces[f])
-                        .iter()
-                        .filter(|&&v| self.motion[v as usize] != Motion::Still),
-                );
+                vertices.extend(crate::face::vertices(&self.faces[f]).iter().filter(|&&v| match self.motion
+                    [v as usize]
+                {
+                    Motion::Still => false,
+                    Motion::Curve(_) => curves_move,
+                    Motion::Free(_) => true,
+                }));
             }
         }
         vertices.sort_unstable();
         vertices.dedup();
         let mut star = LocalStar::default();
         let mut moved = 0;
-        for &v in &vertices {
+        for (i, &v) in vertices.iter().enumerate() {
+            if i > 0 && i % ROUND_PROGRESS == 0 && !go_on() {
+                return None;
+            }
             if let Some(p) = moves::max_min_move(surface, state, v as usize, &mut star) {
                 surface.apply(state, v as usize, &p);
                 moved += 1;
             }
         }
-        moved
+        Some(moved)
     }
+}
+
+/// Vertices of a max-min round between two progress reports (a round on a large mesh moves
+/// thousands, each searched with up to 96 star scores).
+const ROUND_PROGRESS: usize = 256;
+
+/// An iterate's statistics in both measures, and the one they are ranked by: the inverted
+/// faces of both, the lower minimum, the mean of the averages.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Both {
+    signed: QualityStats,
+    verdict: QualityStats,
+    ranked: QualityStats,
+}
+
+impl Both {
+    fn new(signed: QualityStats, verdict: QualityStats) -> Both {
+        let ranked = QualityStats {
+            min: signed.min.min(verdict.min),
+            avg: 0.5 * (signed.avg + verdict.avg),
+            max: signed.max.max(verdict.max),
+            inverted: signed.inverted + verdict.inverted,
+        };
+        Both { signed, verdict, ranked }
+    }
+
+    fn of(signed: &[f64], verdict: &[f64]) -> Both {
+        Both::new(QualityStats::from_values(signed), QualityStats::from_values(verdict))
+    }
+
+    /// No more inverted faces and no lower minimum than `input` in either measure.
+    fn not_worse_than(&self, input: &Both) -> bool {
+        let ok = |a: &QualityStats, b: &QualityStats| a.inverted <= b.inverted && a.min >= b.min;
+        ok(&self.signed, &input.signed) && ok(&self.verdict, &input.verdict)
+    }
+}
+
+/// Whether every face is at or above its bounds.
+fn within(signed: &[f64], verdict: &[f64], bounds: &[Bound]) -> bool {
+    bounds.iter().zip(signed.iter().zip(verdict)).all(|(b, (&s, &v))| s >= b.signed && v >= b.verdict)
 }
 
 /// What a run leaves.

@@ -46,9 +46,20 @@ pub struct Patches {
     face_triangle: Vec<u32>,
     patches: Vec<Patch>,
     /// One-sided normal of each face's patch at each of its corners, at the input positions
-    /// (a triangle's third twice, as [`crate::quality3d::corners`] repeats its corner).
+    /// (a triangle's third twice, as [`crate::quality3d::corners`] repeats its corner); at a
+    /// corner where that normal does not describe the face (see [`Patches::is_own`]), the
+    /// face's own input normal.
     input_corner_normals: Vec<[DVec3; 4]>,
+    /// Per face, bit `k` set when corner `k` is measured against the face's own input normal
+    /// (frozen: it does not follow the vertex).
+    own_normal: Vec<u8>,
 }
+
+/// A corner is measured against its face's own input normal when the patch's normal there is
+/// further than this from it (degrees): the patch's vertex normal then averages faces on two
+/// sides of a crease the feature rule did not cut (a thin blade's edge, a cone's apex), and
+/// describes neither side (docs/surfaces.md, "Which faces are folded").
+pub const OWN_NORMAL_ANGLE_DEG: f64 = 45.0;
 
 impl Patches {
     /// Cuts `mesh` (at its current, input positions) along the feature edges of `features`.
@@ -104,10 +115,35 @@ impl Patches {
             if n == DVec3::ZERO { fallback } else { n }
         };
         let mut input_corner_normals = Vec::with_capacity(faces.len());
+        let mut own_normal = Vec::with_capacity(faces.len());
+        let trusted = OWN_NORMAL_ANGLE_DEG.to_radians().cos();
+        // The face's own normal: Verdict's centre normal for a quad (its diagonals' cross
+        // product), the plane's normal for a triangle.
+        let own: Vec<DVec3> = faces.iter().map(|f| face_vector_area(points, f).normalize_or_zero()).collect();
+        // The sum of the own normals of each face's neighbours across its edges: a face turned
+        // against it is folded over, and keeps the patch's normals that say so.
+        let mut around = vec![DVec3::ZERO; faces.len()];
+        for e in mesh.edges() {
+            if !e.is_boundary() {
+                let (f, g) = (e.faces[0] as usize, e.faces[1] as usize);
+                around[f] += own[g];
+                around[g] += own[f];
+            }
+        }
         for (f, face) in faces.iter().enumerate() {
-            let fallback = face_vector_area(points, face).normalize_or(DVec3::Z);
             let c = corner_vertices(face);
-            input_corner_normals.push(c.map(|v| normal_of(v, face_patch[f], fallback)));
+            let fallback = if own[f] == DVec3::ZERO { DVec3::Z } else { own[f] };
+            let mut normals = c.map(|v| normal_of(v, face_patch[f], fallback));
+            let mut bits = 0u8;
+            let folded = !(own[f].dot(around[f]) > 0.0);
+            for (k, n) in normals.iter_mut().enumerate() {
+                if !folded && !(n.dot(own[f]) >= trusted) {
+                    *n = own[f];
+                    bits |= 1 << k;
+                }
+            }
+            input_corner_normals.push(normals);
+            own_normal.push(bits);
         }
         let mut patches = Vec::with_capacity(members.len());
         let mut face_triangle = vec![0u32; faces.len()];
@@ -147,7 +183,7 @@ impl Patches {
                 .collect();
             patches.push(Patch { global, reference, corner_normals });
         }
-        Ok(Patches { face_patch, face_triangle, patches, input_corner_normals })
+        Ok(Patches { face_patch, face_triangle, patches, input_corner_normals, own_normal })
     }
 
     /// Number of patches.
@@ -163,6 +199,14 @@ impl Patches {
     /// The one-sided normals at the corners of every face, at the input positions.
     pub fn input_corner_normals(&self) -> &[[DVec3; 4]] {
         &self.input_corner_normals
+    }
+
+    /// Whether corner `k` of face `f` is measured against the face's own input normal, which
+    /// stays as it is when the vertex moves, rather than against the patch's normal where the
+    /// vertex is.
+    #[inline]
+    pub fn is_own(&self, f: usize, k: usize) -> bool {
+        self.own_normal[f] >> k & 1 == 1
     }
 
     /// The triangle of face `f`'s patch reference that has vertex `v` of `f` as a corner (a

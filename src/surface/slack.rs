@@ -13,6 +13,14 @@
 //! stays above it (and above zero: the budget is measured from `max(floor, 0)`). The edges
 //! stay longer than `L (1 - 1/pi)`, far from the degenerate-edge cut-off. A margin of 1e-9
 //! covers the rounding of the values and of the bound. Triangles get no certificate.
+//!
+//! Verdict's value has the same form with `n` the face's unit centre normal
+//! `w / |w|`, `w = A x B` (`A = e0 - e2`, `B = e1 - e3`), which turns as the corners move: each of
+//! `A`, `B` changes by at most `4 D`, so `|w' - w| <= 4 D (|A| + |B|) + 16 D^2` and the unit
+//! normal turns by at most twice that over `|w|`. A certified move has `2 pi D / L` below a
+//! budget under 2, so `D < L / pi` and `16 D^2 < 16 D L / pi`: Verdict's value falls by at most
+//! `D (2 pi / L + (8 (|A| + |B|) + 32 L / pi) / |w|)`, certified against the face's Verdict
+//! bound. A face whose `w` is small next to `|A| |B|` (nearly parallel diagonals) gets none.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -29,32 +37,63 @@ const MARGIN: f64 = 1e-9;
 
 /// Per-face budgets from one state, and how far each vertex has moved since.
 pub struct Slack {
-    /// Per face: its value's height above `max(floor, 0)` less the margin, rounded down to an
-    /// f32 (0: no certificate), and `2 pi` over its shortest edge, rounded up.
-    budget: Vec<(f32, f32)>,
+    /// Per face: its budgets, in both measures.
+    budget: Vec<Budget>,
     /// Per vertex: how far it has moved since, and how far its normals have turned (the
     /// largest over its faces), rounded up.
     moved: Vec<f32>,
     turned: Vec<f32>,
 }
 
-/// Face `f`'s budget at `state` (its value `value`) above `base`, and `2 pi` over its
-/// shortest edge; none for a triangle or a face near the degenerate-edge cut-off.
-fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64) -> (f32, f32) {
+/// A face's budgets: in the signed measure, its value's height above `max(floor, 0)` (and its
+/// bound) less the margin, rounded down to an f32 (0: no certificate), and `2 pi` over its
+/// shortest edge, rounded up; in Verdict's, its height above its Verdict bound less the
+/// margin, and the rate per unit of displacement at which the value can fall, rounded up.
+#[derive(Clone, Copy, Debug, Default)]
+struct Budget {
+    signed: f32,
+    per_length: f32,
+    verdict: f32,
+    verdict_per_length: f32,
+}
+
+/// Face `f`'s budgets at `state` (its signed value `value`) above `base` (the signed measure)
+/// and its Verdict bound; none for a triangle or a face near the degenerate-edge cut-off.
+fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64) -> Budget {
     let face = &surface.faces[f];
     if is_triangle(face) {
-        return (0.0, 0.0);
+        return Budget::default();
     }
     let q = corner_vertices(face).map(|u| state.points[u as usize]);
     let squared = [q[1] - q[0], q[2] - q[1], q[3] - q[2], q[0] - q[3]].map(DVec3::length_squared);
     let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
     let longest = squared[0].max(squared[1]).max(squared[2]).max(squared[3]);
     // No bound near the degenerate-edge cut-off (the plane's rule).
-    if shortest >= 1e-24 * longest && shortest > 0.0 {
-        (down(value - base - MARGIN), up(std::f64::consts::TAU / shortest.sqrt()))
-    } else {
-        (0.0, 0.0)
+    if !(shortest >= 1e-24 * longest && shortest > 0.0) {
+        return Budget::default();
     }
+    let l = shortest.sqrt();
+    let mut budget = Budget {
+        signed: 0.0,
+        per_length: up(std::f64::consts::TAU / l),
+        verdict: 0.0,
+        verdict_per_length: 0.0,
+    };
+    let Some(bound) = surface.bounds.get(f) else {
+        budget.signed = down(value - base - MARGIN);
+        return budget;
+    };
+    budget.signed = down(value - base.max(bound.signed) - MARGIN);
+    let (a, b) = (q[1] - q[0] - (q[3] - q[2]), q[2] - q[1] - (q[0] - q[3]));
+    let (la, lb) = (a.length(), b.length());
+    let w = a.cross(b).length();
+    if w >= 1e-3 * la * lb && w > 0.0 {
+        let verdict = crate::quality3d::verdict_scaled_jacobian(&q);
+        let rate = std::f64::consts::TAU / l + (8.0 * (la + lb) + 32.0 * l / std::f64::consts::PI) / w;
+        budget.verdict = down(verdict - bound.verdict - MARGIN);
+        budget.verdict_per_length = up(rate);
+    }
+    budget
 }
 
 /// How far a vertex has moved and its normals turned since the budgets' state, rounded up.
@@ -108,28 +147,29 @@ impl Slack {
         self.clear_moves(state.points.len());
     }
 
-    /// The signed value of every face at `state`, with the budgets recomputed there as by
-    /// [`reset`](Self::reset): one pass over the faces where a sweep needs both.
-    pub fn values_and_reset(&mut self, surface: &Surface, state: &State, floor: f64) -> Vec<f64> {
+    /// The signed and Verdict values of every face at `state`, with the budgets recomputed
+    /// there as by [`reset`](Self::reset): one pass over the faces where a sweep needs all.
+    pub fn values_and_reset(&mut self, surface: &Surface, state: &State, floor: f64) -> (Vec<f64>, Vec<f64>) {
         let base = floor.max(0.0);
-        let both = |f: usize| {
+        let all = |f: usize| {
             let value = surface.face_value(state, f, None);
-            (value, face_budget(surface, state, f, value, base))
+            let verdict = surface.face_verdict(state, f, None);
+            ((value, verdict), face_budget(surface, state, f, value, base))
         };
-        let mut values = Vec::new();
+        let mut values: Vec<(f64, f64)> = Vec::new();
         if surface.faces.len() >= PARALLEL_MIN {
-            (0..surface.faces.len()).into_par_iter().map(both).unzip_into_vecs(&mut values, &mut self.budget);
+            (0..surface.faces.len()).into_par_iter().map(all).unzip_into_vecs(&mut values, &mut self.budget);
         } else {
             self.budget.clear();
             values.reserve(surface.faces.len());
             for f in 0..surface.faces.len() {
-                let (value, budget) = both(f);
+                let (value, budget) = all(f);
                 values.push(value);
                 self.budget.push(budget);
             }
         }
         self.clear_moves(state.points.len());
-        values
+        values.into_iter().unzip()
     }
 
     /// Every vertex at rest since the budgets' state.
@@ -152,7 +192,7 @@ impl Slack {
             let f = f as usize;
             let normal = at.normal_for(surface.patches.of_face(f));
             for (k, &u) in corner_vertices(&surface.faces[f]).iter().enumerate() {
-                if u as usize == v {
+                if u as usize == v && !surface.patches.is_own(f, k) {
                     turned = larger(turned, (normal - state.normals[f][k]).length());
                 }
             }
@@ -181,8 +221,9 @@ impl Slack {
         let mut turn = 0.0f64;
         for &f in surface.topo.vertex_quads(v) {
             let f = f as usize;
-            let (budget, per_length) = self.budget[f];
-            if budget <= 0.0 {
+            let budget = self.budget[f];
+            let bounded = !surface.bounds.is_empty();
+            if budget.signed <= 0.0 || (bounded && budget.verdict <= 0.0) {
                 return None;
             }
             let (mut d, mut n) = (own, 0.0f64);
@@ -190,7 +231,12 @@ impl Slack {
                 let u = u as usize;
                 if u == v {
                     let normal = at.normal_for(surface.patches.of_face(f));
-                    let t = (normal - state.normals[f][k]).length();
+                    // A corner measured against its face's own normal keeps it.
+                    let t = if surface.patches.is_own(f, k) {
+                        0.0
+                    } else {
+                        (normal - state.normals[f][k]).length()
+                    };
                     turn = larger(turn, t);
                     n = larger(n, own_turn + t);
                 } else {
@@ -198,7 +244,10 @@ impl Slack {
                     n = larger(n, f64::from(self.turned[u]));
                 }
             }
-            if !(d * f64::from(per_length) + n < f64::from(budget)) {
+            if !(d * f64::from(budget.per_length) + n < f64::from(budget.signed)) {
+                return None;
+            }
+            if bounded && !(d * f64::from(budget.verdict_per_length) < f64::from(budget.verdict)) {
                 return None;
             }
         }

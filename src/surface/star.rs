@@ -16,7 +16,7 @@ use glam::{DVec2, DVec3};
 use super::patches::{OnPatch, Patches, corner_vertices};
 use super::tracks::{Slot, Tracks};
 use crate::face::Face;
-use crate::quality3d::{MovingCorner, signed_scaled_jacobian_unit};
+use crate::quality3d::{MovingCorner, signed_scaled_jacobian_unit, verdict_scaled_jacobian};
 use crate::topology::Topology;
 
 /// Most patches a moving vertex may touch: a vertex on a feature curve touches two, one on
@@ -80,10 +80,32 @@ impl Placed {
     }
 }
 
-/// The lexicographic score of a star: fewer inverted faces, then a higher minimum, then a
-/// higher sum of the signed scaled Jacobians.
+/// The lowest values a face may take in a run, in each measure: min(its input value, the
+/// floor), the floor being the larger of the guard's floor and the input's minimum in that
+/// measure. Every move the run takes keeps every face of its star at or above both.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bound {
+    /// In the signed measure (each corner against the surface's normal).
+    pub signed: f64,
+    /// In Verdict's measure (each corner against the face's centre normal).
+    pub verdict: f64,
+}
+
+impl Bound {
+    /// The bounds of faces of input values `signed` and `verdict` for the guard's floor
+    /// `guard_floor`.
+    pub fn of_input(signed: &[f64], verdict: &[f64], guard_floor: f64) -> Vec<Bound> {
+        let floor = |values: &[f64]| guard_floor.max(values.iter().copied().fold(f64::INFINITY, f64::min));
+        let (fs, fv) = (floor(signed), floor(verdict));
+        signed.iter().zip(verdict).map(|(&s, &v)| Bound { signed: s.min(fs), verdict: v.min(fv) }).collect()
+    }
+}
+
+/// The lexicographic score of a star: fewer faces below their [`Bound`], then fewer inverted
+/// faces, then a higher minimum, then a higher sum of the signed scaled Jacobians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Score {
+    pub below: u32,
     pub inverted: u32,
     pub min: f64,
     pub sum: f64,
@@ -91,7 +113,7 @@ pub struct Score {
 
 impl Score {
     /// The score of no face, to [`add`](Self::add) faces to.
-    pub const EMPTY: Score = Score { inverted: 0, min: f64::INFINITY, sum: 0.0 };
+    pub const EMPTY: Score = Score { below: 0, inverted: 0, min: f64::INFINITY, sum: 0.0 };
 
     /// Counts one more face, of signed value `value`.
     #[inline]
@@ -103,6 +125,9 @@ impl Score {
 
     /// Strictly better.
     pub fn better_than(&self, other: &Score) -> bool {
+        if self.below != other.below {
+            return self.below < other.below;
+        }
         if self.inverted != other.inverted {
             return self.inverted < other.inverted;
         }
@@ -132,6 +157,8 @@ pub struct Surface<'a> {
     pub patches: &'a Patches,
     pub tracks: &'a Tracks,
     pub motion: &'a [Motion],
+    /// Per face, the values it may not fall below (empty: no bounds, as when measuring).
+    pub bounds: &'a [Bound],
 }
 
 impl Surface<'_> {
@@ -146,18 +173,47 @@ impl Surface<'_> {
             for k in 0..4 {
                 if cv[k] as usize == v {
                     q[k] = at.point;
-                    n[k] = normal;
+                    if !self.patches.is_own(f, k) {
+                        n[k] = normal;
+                    }
                 }
             }
         }
         signed_scaled_jacobian_unit(&q, &n)
     }
 
+    /// Verdict's scaled Jacobian of face `f` at `state`, `v` placed at `at` if given.
+    pub fn face_verdict(&self, state: &State, f: usize, moved: Option<(usize, &Placed)>) -> f64 {
+        let cv = corner_vertices(&self.faces[f]);
+        let mut q = cv.map(|u| state.points[u as usize]);
+        if let Some((v, at)) = moved {
+            for k in 0..4 {
+                if cv[k] as usize == v {
+                    q[k] = at.point;
+                }
+            }
+        }
+        verdict_scaled_jacobian(&q)
+    }
+
+    /// Whether face `f`, of signed value `signed` at `state` with `v` at `at`, is below its
+    /// bound in either measure (a NaN is).
+    #[inline]
+    fn is_below(&self, state: &State, f: usize, signed: f64, moved: Option<(usize, &Placed)>) -> bool {
+        match self.bounds.get(f) {
+            None => false,
+            Some(b) => !(signed >= b.signed) || !(self.face_verdict(state, f, moved) >= b.verdict),
+        }
+    }
+
     /// The score of `v`'s star, with `v` at `at` (else where it is).
     pub fn star_score(&self, state: &State, v: usize, at: Option<&Placed>) -> Score {
         let mut s = Score::EMPTY;
         for &f in self.topo.vertex_quads(v) {
-            s.add(self.face_value(state, f as usize, at.map(|a| (v, a))));
+            let moved = at.map(|a| (v, a));
+            let value = self.face_value(state, f as usize, moved);
+            s.below += u32::from(self.is_below(state, f as usize, value, moved));
+            s.add(value);
         }
         s
     }
@@ -187,10 +243,21 @@ impl Surface<'_> {
         }
         let mut s = Score::EMPTY;
         for (&f, corner) in self.topo.vertex_quads(v).iter().zip(moving.iter()) {
-            s.add(match corner {
-                Some(c) => c.value(at.point, at.normal_for(self.patches.of_face(f as usize))),
-                None => self.face_value(state, f as usize, Some((v, at))),
-            });
+            let f = f as usize;
+            let value = match corner {
+                Some(c) => {
+                    let k = c.corner();
+                    let normal = if self.patches.is_own(f, k) {
+                        state.normals[f][k]
+                    } else {
+                        at.normal_for(self.patches.of_face(f))
+                    };
+                    c.value(at.point, normal)
+                }
+                None => self.face_value(state, f, Some((v, at))),
+            };
+            s.below += u32::from(self.is_below(state, f, value, Some((v, at))));
+            s.add(value);
         }
         s
     }
@@ -265,7 +332,7 @@ impl Surface<'_> {
             let normal = if at.count == 1 { at.normals[0].1 } else { at.normal_for(self.patches.of_face(f)) };
             let cv = corner_vertices(&self.faces[f]);
             for (k, &u) in cv.iter().enumerate() {
-                if u as usize == v {
+                if u as usize == v && !self.patches.is_own(f, k) {
                     state.normals[f][k] = normal;
                 }
             }

@@ -1,19 +1,28 @@
 #!/usr/bin/env python3
-"""Peer comparison on curved surfaces: quadopt's presets against gmsh and OpenMesh smoothers.
+"""Peer comparison on curved surfaces: quadopt's presets against gmsh, OpenMesh and vcglib smoothers.
 
-quadopt's presets against gmsh's Laplace2D and Relocate2D and OpenMesh's JacobiLaplaceSmootherT,
-on quad (and quad-dominant) meshes of curved 3D surfaces.
+quadopt's presets against gmsh's Laplace2D and Relocate2D, OpenMesh's JacobiLaplaceSmootherT and
+vcglib's LaplacianReproject and SmoothReprojectPCA (QuadWild's), on quad (and quad-dominant)
+meshes of curved 3D surfaces.
 
 Usage:  python3 -m venv VENV && VENV/bin/pip install -r tools/requirements.txt   # gmsh 4.15.2, vtk, numpy
         apt-get install libopenmesh-dev g++ pkg-config        # for the OpenMesh peer (else skipped)
+        apt-get install libeigen3-dev                         # for the vcglib peers (else skipped)
         VENV/bin/python tools/bench_surfaces.py --quadopt target/release/quadopt [--out DIR]
+            [--only NAME,...] [--real DIR] [--vcglib DIR] [--meshlab-src TARBALL] [--build DIR]
 
 Meshes: the surface samples of tools/make_samples.py (sphere_surface, bracket_surface,
 cylinder_holes_surface, bracket_surface_mixed), regenerated here in the gmsh session that also
 runs gmsh's smoothers, each also unperturbed (NAME_clean), and Mesquite's untangled
-bias-sphere-quads, quads_on_sphere_529 and paraboloid (--mesquite DIR). Each input is written to
-OUT/inputs/ (the samples bit for bit as `make_samples.py --surfaces` writes them), the outputs to
-OUT/outputs/, the rows to OUT/bench_surfaces.json.
+bias-sphere-quads, quads_on_sphere_529 and paraboloid (--mesquite DIR), and the real meshes of
+--real DIR (default ../shared/meshes/real; skipped with a note if absent): every surface/*.vtk and
+every mixed/*.vtk that is not planar (planar ones are tools/bench_peers.py's); a mesh that is
+planar or not orientable (surface/mfem_mobius-strip, which quadopt refuses) gets a "skipped" row
+saying why. The real meshes and Mesquite's have no CAD model: gmsh's smoothers and the CAD
+distance are for the CAD samples only. --only NAME,... keeps the meshes whose name contains one
+of the NAMEs. Each input is written to OUT/inputs/ (the samples bit for bit as `make_samples.py
+--surfaces` writes them, the others as plain copies), the outputs to OUT/outputs/, the rows to
+OUT/bench_surfaces.json.
 
 Tools (each timed by its own timer around the smoothing step alone, no meshing or file IO; the
 median over --repeat runs):
@@ -27,6 +36,26 @@ median over --repeat runs):
     Laplace with each move projected onto the input's tangent plane at the vertex; boundary
     vertices held, and (--features, 45 degrees) every vertex on an edge whose dihedral angle
     exceeds 45 degrees, as quadopt holds feature curves to their polylines.
+  * vcglib LaplacianReproject (5 and 100 steps), SmoothReprojectPCA (30 and 100 steps)
+    (tools/peers/vcglib/vcglib_polygonal.cpp, GPL, its own folder; built with g++ and Eigen into
+    --build DIR against vcglib's headers in --vcglib DIR, default ../vcglib_src, extracted there
+    from MeshLab 2025.07's source tarball --meshlab-src when absent; skipped with a note when
+    either is missing): vcg::PolygonalAlgorithm<PolyMesh> on the mesh's quads and triangles as
+    polygons, the call alone timed (it builds its guide surface, the input fan-triangulated
+    around each face's barycentre, and a grid on it, inside). LaplacianReproject(m, N, 0.5,
+    OnlyOnSelected=true): per step, area-weighted Laplace damped by 0.5 (each vertex goes half way
+    to the mean of its faces' other vertices), then half way (vcglib's fixed 0.5) to its closest
+    point on the guide surface; damping 0.5 and OnlyOnSelected as QuadWild's QuadRetopology calls
+    it, 5 steps its default, 100 vcglib's. SmoothReprojectPCA(m, N, fixS=true, 0.5, SharpDeg=0,
+    WeightByQuality=false, FixB=true): per step, one SmoothPCA step (each face's regular template
+    polygon fitted onto it, averaged per vertex by inverse area, blended with 0.1 of Laplace,
+    damped by 0.5) and a half-way reprojection; damping 0.5 and 30 steps as QuadWild's final
+    smoothing (MultiCostraintSmooth) runs its SmoothPCA steps, 100 vcglib's default. Held, as
+    for OpenMesh: boundary vertices and (--features) every vertex on an edge whose dihedral angle
+    exceeds 45 degrees, by vcglib's selection (LaplacianReproject moves only the selected
+    vertices, the held ones unselected; SmoothReprojectPCA with fixS holds the selected ones, the
+    held ones selected). SharpDeg stays 0: vcglib's own sharp-edge rule would let those vertices
+    slide along the line of a sharp edge instead.
   * quadopt PRESET (fast, balanced, best): `quadopt optimize IN -o OUT --json --effort PRESET`
     (plus --quadopt-flags), its report's "seconds" plus "setup_seconds" (the features, patches
     and reference trees it builds first, as the peers' times include their set-up). A failed run is reported as an error row and
@@ -36,7 +65,7 @@ Measures (numpy, of every input and output):
   * verdict min / avg: Verdict's 3D quad scaled Jacobian (vtkMeshQuality's QuadScaledJacobian:
     corners' cross products against the quad's centre normal (e0 - e2) x (e1 - e3), over the
     edge lengths) and triangle scaled Jacobian (unsigned in 3D, as Verdict has no normal there);
-    checked against vtkMeshQuality on the first mesh.
+    checked against vtkMeshQuality on the first mesh. inv: faces with a value <= 0.
   * signed min / avg (inv): the measure quadopt ranks by, from `quadopt quality OUT --reference
     IN --json` for every tool's output alike: per face the minimum over its corners of
     n . ((v_next - v) x (v_prev - v)) / (|v_next - v| |v_prev - v|), n the normal of the face's
@@ -50,9 +79,13 @@ Measures (numpy, of every input and output):
     a vertex on the exact curved surface is up to a sagitta away from it.
   * CAD dist (CAD samples only): the largest distance of a vertex to the exact CAD surfaces of
     its incident faces (untrimmed; gmsh.model.getClosestPoint), over the same length.
-Dominance: a peer run (gmsh, OpenMesh, on one mesh) is dominated when some quadopt preset on the
-same mesh ran, took no more seconds (times under 1 ms count as 1 ms) and has signed min and avg
-at least the peer's (less 1e-3).
+Every tool's output (every peer's and every preset's) is ranked in both measures, Verdict's and
+the signed one. The table, one per mesh: tool, verdict min / avg (inv), signed min / avg (inv),
+dist, CAD dist (CAD samples), seconds, and the measures in which the peer run is dominated.
+Dominance, in each measure (signed, verdict) apart: a peer run (gmsh, OpenMesh, vcglib, on one
+mesh) is dominated when some quadopt preset on the same mesh ran, took no more seconds (times
+under 1 ms count as 1 ms) and has that measure's min and avg at least the peer's (less 1e-3);
+"dominated N of M peer runs" is printed per measure.
 """
 
 import argparse
@@ -77,6 +110,13 @@ PRESETS = ["fast", "balanced", "best"]
 OPENMESH_ITERS = [10, 100]
 MESQUITE = os.path.join(ROOT, "..", "shared", "meshes", "mesquite", "untangled")
 MESQUITE_MESHES = ["bias-sphere-quads", "quads_on_sphere_529", "paraboloid"]
+REAL = os.path.join(ROOT, "..", "shared", "meshes", "real")
+REAL_SETS = ["surface", "mixed"]  # real/planar is tools/bench_peers.py's
+MESHLAB_SRC = os.path.join(ROOT, "..", "shared", "meshlab", "meshlab-2025.07-src.tar.xz")
+VCGLIB = os.path.join(ROOT, "..", "vcglib_src")
+# vcglib's polygon smoothers (tools/peers/vcglib/): (tool name, driver --method, steps, damping).
+VCGLIB_RUNS = [("LaplacianReproject", "laplacian", 5, 0.5), ("LaplacianReproject", "laplacian", 100, 0.5),
+               ("SmoothReprojectPCA", "pca", 30, 0.5), ("SmoothReprojectPCA", "pca", 100, 0.5)]
 TOL = 1e-3
 MIN_SECONDS = 1e-3
 OUT_INPUTS = [""]  # the inputs' directory (error messages name it; the table leaves it out)
@@ -192,6 +232,45 @@ def mean_edge_length(points, faces):
             e.add((min(a, b), max(a, b)))
     e = np.array(sorted(e))
     return float(np.linalg.norm(points[e[:, 0]] - points[e[:, 1]], axis=1).mean())
+
+
+def orientable(faces):
+    """Whether the faces can be oriented consistently (a Moebius strip cannot): flips propagated
+    across the edges with two faces, one connected piece at a time."""
+    by_edge = {}
+    for i, f in enumerate(faces.tolist()):
+        f = f[:3] if f[3] < 0 else f
+        for k in range(len(f)):
+            a, b = f[k], f[(k + 1) % len(f)]
+            by_edge.setdefault((min(a, b), max(a, b)), []).append((i, a < b))
+    nbrs = [[] for _ in range(len(faces))]
+    for uses in by_edge.values():
+        if len(uses) == 2:
+            (i, di), (j, dj) = uses
+            nbrs[i].append((j, di == dj))  # same direction: one of the two must flip
+            nbrs[j].append((i, di == dj))
+    flip = [None] * len(faces)
+    for seed in range(len(faces)):
+        if flip[seed] is not None:
+            continue
+        flip[seed], todo = False, [seed]
+        while todo:
+            i = todo.pop()
+            for j, differ in nbrs[i]:
+                want = flip[i] != differ
+                if flip[j] is None:
+                    flip[j] = want
+                    todo.append(j)
+                elif flip[j] != want:
+                    return False
+    return True
+
+
+def planar(points, faces, tol=1e-9):
+    """Whether the used vertices lie in one plane (to tol times their extent)."""
+    p = points[np.unique(faces[faces >= 0])]
+    s = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
+    return bool(s[-1] <= tol * s[0])
 
 
 def orientation_conflicts(faces):
@@ -490,21 +569,89 @@ def build_openmesh(build_dir):
     return exe
 
 
-def run_openmesh(exe, points, faces, name, iters, repeat, features, out_dir):
-    off = os.path.join(out_dir, "outputs", f"{name}.off")
-    write_off(off, points, faces)
+def vcglib_headers(vcglib_dir, tarball):
+    """The directory of vcglib's headers: vcglib_dir, extracted there first from MeshLab's source
+    tarball (its src/vcglib) when it has no vcglib. Never inside the repository (GPL)."""
+    header = os.path.join("vcg", "complex", "algorithms", "polygonal_algorithms.h")
+    if os.path.exists(os.path.join(vcglib_dir, header)):
+        return vcglib_dir
+    target = os.path.abspath(vcglib_dir)
+    if os.path.commonpath([target, ROOT]) == ROOT:
+        raise RuntimeError(f"{vcglib_dir} is inside the repository; extract vcglib outside it (--vcglib)")
+    if not os.path.exists(tarball):
+        raise RuntimeError(f"no vcglib in {vcglib_dir} and no {tarball} to extract it from")
+    import tarfile
+
+    note(f"extracting vcglib from {tarball} into {vcglib_dir}")
+    with tarfile.open(tarball, "r:xz") as tar:
+        for m in tar:
+            parts = m.name.split("/")
+            # meshlab-COMMIT/src/vcglib/...: keep what follows src/vcglib/.
+            if len(parts) > 3 and parts[1:3] == ["src", "vcglib"] and (m.isfile() or m.isdir()):
+                m.name = "/".join(parts[3:])
+                tar.extract(m, target, filter="data")
+    if not os.path.exists(os.path.join(vcglib_dir, header)):
+        raise RuntimeError(f"{tarball} has no src/vcglib/{header}")
+    return vcglib_dir
+
+
+def eigen_include():
+    flags = subprocess.run(["pkg-config", "--cflags-only-I", "eigen3"], capture_output=True, text=True)
+    dirs = [f[2:] for f in flags.stdout.split()] if flags.returncode == 0 else []
+    for d in dirs + ["/usr/include/eigen3", "/usr/local/include/eigen3"]:
+        if os.path.exists(os.path.join(d, "Eigen", "Core")):
+            return d
+    raise RuntimeError("Eigen not found (apt-get install libeigen3-dev)")
+
+
+def build_vcglib(build_dir, vcglib_dir, tarball):
+    src = os.path.join(HERE, "peers", "vcglib", "vcglib_polygonal.cpp")
+    exe = os.path.join(build_dir, "vcglib_polygonal")
+    if os.path.exists(exe) and os.path.getmtime(exe) >= os.path.getmtime(src):
+        return exe
+    os.makedirs(build_dir, exist_ok=True)
+    inc = [vcglib_headers(vcglib_dir, tarball), eigen_include()]
+    r = subprocess.run(["g++", "-O2", "-std=c++17", *[f"-I{d}" for d in inc], "-o", exe, src],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"building the vcglib driver failed: {r.stderr.strip()[-400:]}")
+    return exe
+
+
+def run_driver(cmd, xyz, faces, out_path, title):
+    """Runs a peer driver that writes the output positions to xyz and its report as the last line
+    of its stdout; writes the output mesh to out_path; returns the report."""
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        msg = (r.stderr.strip() or f"exit {r.returncode}").splitlines()
+        raise RuntimeError(msg[-1] if msg else f"exit {r.returncode}")
+    rep = json.loads(r.stdout.strip().splitlines()[-1])
+    write_vtk(out_path, np.loadtxt(xyz).reshape(-1, 3), faces, title)
+    return rep
+
+
+def run_openmesh(exe, off, faces, name, iters, repeat, features, out_dir):
     xyz = os.path.join(out_dir, "outputs", f"{name}.openmesh-{iters}.xyz")
     cmd = [exe, off, xyz, "--iters", str(iters), "--repeat", str(repeat)]
     if features is not None:
         cmd += ["--features", str(features)]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(r.stderr.strip() or "failed")
-    rep = json.loads(r.stdout.strip().splitlines()[-1])
-    out = np.loadtxt(xyz).reshape(-1, 3)
     out_path = os.path.join(out_dir, "outputs", f"{name}.openmesh-{iters}.vtk")
-    write_vtk(out_path, out, faces, f"{name}, OpenMesh JacobiLaplaceSmootherT x{iters} (tools/bench_surfaces.py)")
+    rep = run_driver(cmd, xyz, faces, out_path,
+                     f"{name}, OpenMesh JacobiLaplaceSmootherT x{iters} (tools/bench_surfaces.py)")
     return dict(seconds=rep["seconds"], times=rep["times"], feature_edges=rep["feature_edges"], output=out_path)
+
+
+def run_vcglib(exe, off, faces, name, run, repeat, features, out_dir):
+    algorithm, method, steps, damp = run
+    stem = os.path.join(out_dir, "outputs", f"{name}.vcglib-{method}-{steps}")
+    cmd = [exe, off, stem + ".xyz", "--method", method, "--iters", str(steps), "--damp", str(damp),
+           "--repeat", str(repeat)]
+    if features is not None:
+        cmd += ["--features", str(features)]
+    rep = run_driver(cmd, stem + ".xyz", faces, stem + ".vtk",
+                     f"{name}, vcglib {algorithm} x{steps} (tools/bench_surfaces.py)")
+    return dict(seconds=rep["seconds"], times=rep["times"], damp=damp, feature_edges=rep["feature_edges"],
+                held=rep["held"], output=stem + ".vtk")
 
 
 def run_quadopt(quadopt, in_path, name, preset, repeat, extra, out_dir):
@@ -535,9 +682,11 @@ def run_quadopt(quadopt, in_path, name, preset, repeat, extra, out_dir):
 # --------------------------------------------------------------------------------------------
 
 
-def bench_mesh(args, name, in_path, tool_results, om_exe, cad=None):
-    """Measures the input and every tool's output on one mesh; returns the rows. With `cad`
-    (the sample and its faces' CAD surfaces), also each vertex's distance to the CAD model."""
+def bench_mesh(args, name, in_path, tool_results, exes, cad=None):
+    """Runs the peer drivers (exes: "openmesh", "vcglib", None when not built) and quadopt's
+    presets on one mesh, measures the input and every tool's output (with tool_results, the
+    outputs already made); returns the rows. With `cad` (the sample and its faces' CAD surfaces),
+    also each vertex's distance to the CAD model."""
     points, faces = read_vtk(in_path)
     ref = Reference(points, faces)
     bad = orientation_conflicts(faces)
@@ -547,13 +696,20 @@ def bench_mesh(args, name, in_path, tool_results, om_exe, cad=None):
                 mean_edge=ref.h)
     rows = [dict(base, tool="input", seconds=None, **measure(points, faces, ref, in_path, in_path, args.quadopt))]
     results = dict(tool_results)
-    if om_exe:
-        for it in OPENMESH_ITERS:
-            try:
-                results[f"OpenMesh Jacobi x{it}"] = run_openmesh(om_exe, points, faces, name, it, args.repeat,
-                                                                 args.features, args.out)
-            except RuntimeError as e:
-                results[f"OpenMesh Jacobi x{it}"] = dict(error=str(e))
+    off = os.path.join(args.out, "outputs", f"{name}.off")
+    write_off(off, points, faces)
+    peer_runs = []  # (tool, function running it)
+    if exes["openmesh"]:
+        peer_runs += [(f"OpenMesh Jacobi x{it}", lambda it=it: run_openmesh(
+            exes["openmesh"], off, faces, name, it, args.repeat, args.features, args.out)) for it in OPENMESH_ITERS]
+    if exes["vcglib"]:
+        peer_runs += [(f"vcglib {run[0]} x{run[2]}", lambda run=run: run_vcglib(
+            exes["vcglib"], off, faces, name, run, args.repeat, args.features, args.out)) for run in VCGLIB_RUNS]
+    for tool, run in peer_runs:
+        try:
+            results[tool] = run()
+        except (RuntimeError, ValueError) as e:
+            results[tool] = dict(error=str(e))
     for preset in PRESETS:
         try:
             results[f"quadopt {preset}"] = run_quadopt(args.quadopt, in_path, name, preset, args.repeat,
@@ -567,7 +723,10 @@ def bench_mesh(args, name, in_path, tool_results, om_exe, cad=None):
             if not np.array_equal(out_faces, faces):
                 row["error"] = "the output's faces differ from the input's"
             else:
-                row.update(measure(out_points, out_faces, ref, res["output"], in_path, args.quadopt))
+                try:
+                    row.update(measure(out_points, out_faces, ref, res["output"], in_path, args.quadopt))
+                except RuntimeError as e:
+                    row["error"] = str(e)
             row["output"] = res["output"]
             row["_points"] = out_points
         rows.append(row)
@@ -581,16 +740,21 @@ def bench_mesh(args, name, in_path, tool_results, om_exe, cad=None):
     return rows
 
 
+MEASURES = ["signed", "verdict"]
+
+
 def dominance(rows):
-    """Per peer run: whether a quadopt preset dominates it (see the module docs)."""
+    """Per peer run: the quadopt presets that dominate it in each measure (see the module docs)."""
     out = []
     for r in rows:
-        if r["tool"] == "input" or r["tool"].startswith("quadopt") or "error" in r:
+        if r["tool"] == "input" or r["tool"].startswith("quadopt") or "error" in r or "skipped" in r:
             continue
-        by = [q for q in rows if q["mesh"] == r["mesh"] and q["tool"].startswith("quadopt") and "error" not in q
-              and max(q["seconds"], MIN_SECONDS) <= max(r["seconds"], MIN_SECONDS)
-              and q["signed_min"] >= r["signed_min"] - TOL and q["signed_avg"] >= r["signed_avg"] - TOL]
-        out.append(dict(mesh=r["mesh"], peer=r["tool"], dominated_by=[q["tool"] for q in by]))
+        d = dict(mesh=r["mesh"], peer=r["tool"])
+        for m in MEASURES:
+            d[m] = [q["tool"] for q in rows if q["mesh"] == r["mesh"] and q["tool"].startswith("quadopt")
+                    and "error" not in q and max(q["seconds"], MIN_SECONDS) <= max(r["seconds"], MIN_SECONDS)
+                    and q[f"{m}_min"] >= r[f"{m}_min"] - TOL and q[f"{m}_avg"] >= r[f"{m}_avg"] - TOL]
+        out.append(d)
     return out
 
 
@@ -598,20 +762,57 @@ def fmt_seconds(s):
     return "" if s is None else f"{s:.4f}" if s >= 0.01 else f"{s:.2e}"
 
 
-def table(rows):
-    lines = ["| mesh | faces | tool | verdict min / avg | signed min / avg (inv) | dist (rel) | CAD dist (rel) | seconds |",
-             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
-        faces = f"{r['faces']}" + (f" ({r['triangles']} tri)" if r["triangles"] else "")
-        if "error" in r:
-            err = r["error"].replace(os.path.join(os.path.abspath(OUT_INPUTS[0]), ""), "").replace("|", "/")[:110]
-            lines.append(f"| {r['mesh']} | {faces} | {r['tool']} | error: {err} | | | | |")
+def table(rows, dom):
+    """One compact table per mesh; "dominated" names the measures in which a quadopt preset
+    dominates the peer run."""
+    by_peer = {(d["mesh"], d["peer"]): d for d in dom}
+    inputs = os.path.join(os.path.abspath(OUT_INPUTS[0]), "")
+    out = []
+    for mesh in dict.fromkeys(r["mesh"] for r in rows):
+        mr = [r for r in rows if r["mesh"] == mesh]
+        r0 = mr[0]
+        tri = f" ({r0['triangles']} triangles)" if r0.get("triangles") else ""
+        out.append(f"### {mesh}: {r0.get('faces', '?')} faces{tri}, {r0.get('vertices', '?')} vertices")
+        if "skipped" in r0:
+            out += [f"skipped: {r0['skipped']}", ""]
             continue
-        lines.append(f"| {r['mesh']} | {faces} | {r['tool']} | {r['verdict_min']:.4f} / {r['verdict_avg']:.4f} | "
-                     f"{r['signed_min']:.4f} / {r['signed_avg']:.4f} ({r['inverted']}) | {r['dist_rel']:.2e} | "
-                     f"{format(r['cad_dist_rel'], '.2e') if 'cad_dist_rel' in r else ''} | "
-                     f"{fmt_seconds(r['seconds'])} |")
-    return "\n".join(lines)
+        cad = any("cad_dist_rel" in r for r in mr)
+        out += ["| tool | verdict min / avg (inv) | signed min / avg (inv) | dist | " + ("CAD dist | " if cad else "")
+                + "seconds | dominated |",
+                "| --- | ---: | ---: | ---: | " + ("---: | " if cad else "") + "---: | --- |"]
+        for r in mr:
+            if "error" in r:
+                err = r["error"].replace(inputs, "").replace("|", "/")[:110]
+                out.append(f"| {r['tool']} | error: {err} | | | " + ("| " if cad else "") + "| |")
+                continue
+            d = by_peer.get((mesh, r["tool"]))
+            dominated = "" if d is None else ", ".join(m for m in MEASURES if d[m]) or "no"
+            out.append(f"| {r['tool']} | {r['verdict_min']:.4f} / {r['verdict_avg']:.4f} ({r['verdict_inverted']}) | "
+                       f"{r['signed_min']:.4f} / {r['signed_avg']:.4f} ({r['inverted']}) | {r['dist_rel']:.2e} | "
+                       + (f"{format(r['cad_dist_rel'], '.2e') if 'cad_dist_rel' in r else ''} | " if cad else "")
+                       + f"{fmt_seconds(r['seconds'])} | {dominated} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def real_meshes(real_dir, wanted):
+    """The real meshes on curved surfaces (real_dir/surface, and real_dir/mixed unless planar):
+    [(name, path, None or why it is skipped)]."""
+    out = []
+    for sub in REAL_SETS:
+        d = os.path.join(real_dir, sub)
+        for fn in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+            name = fn[:-4]
+            if not fn.endswith(".vtk") or not wanted(name):
+                continue
+            points, faces = read_vtk(os.path.join(d, fn))
+            why = None
+            if planar(points, faces):
+                why = f"planar ({sub}/; planar meshes are tools/bench_peers.py's)"
+            elif not orientable(faces):
+                why = "not orientable (quadopt refuses it: a curved surface's measure is signed by its orientation)"
+            out.append((name, os.path.join(d, fn), why))
+    return out
 
 
 def main():
@@ -619,44 +820,73 @@ def main():
     ap.add_argument("--quadopt", required=True, help="the quadopt binary")
     ap.add_argument("--out", default=os.path.join(ROOT, "target", "bench-surfaces"), help="output directory (inputs, outputs, JSON)")
     ap.add_argument("--mesquite", default=MESQUITE, help="directory of Mesquite's untangled meshes")
-    ap.add_argument("--build", default=os.path.join(ROOT, "target", "openmesh-jacobi"), help="where the OpenMesh driver is built")
+    ap.add_argument("--real", default=REAL,
+                    help="directory of real meshes (its surface/ and mixed/ subdirectories; default ../shared/meshes/real)")
+    ap.add_argument("--build", default=os.path.join(ROOT, "target", "surface-peers"),
+                    help="where the peer drivers (OpenMesh, vcglib) are built")
+    ap.add_argument("--vcglib", default=VCGLIB,
+                    help="vcglib's source tree (extracted there from --meshlab-src if absent; outside the repository)")
+    ap.add_argument("--meshlab-src", default=MESHLAB_SRC, help="MeshLab's source tarball (src/vcglib inside)")
     ap.add_argument("--repeat", type=int, default=5, help="runs per tool (the median time is reported)")
     ap.add_argument("--features", type=float, default=45.0,
-                    help="OpenMesh: hold vertices on edges with a larger dihedral angle (degrees; negative: none)")
+                    help="OpenMesh, vcglib: hold vertices on edges with a larger dihedral angle (degrees; negative: none)")
     ap.add_argument("--quadopt-flags", default="", help="extra flags for every quadopt run")
-    ap.add_argument("--only", help="only the meshes whose name contains this")
+    ap.add_argument("--only", help="only the meshes whose name contains one of these (comma-separated)")
     args = ap.parse_args()
     if args.features < 0:
         args.features = None
+    only = [w for w in (args.only or "").split(",") if w]
+
+    def wanted(name):
+        return not only or any(w in name for w in only)
+
     os.makedirs(os.path.join(args.out, "inputs"), exist_ok=True)
     OUT_INPUTS[0] = os.path.join(args.out, "inputs")
     os.makedirs(os.path.join(args.out, "outputs"), exist_ok=True)
-    try:
-        om_exe = build_openmesh(args.build)
-    except (RuntimeError, OSError) as e:
-        note(f"OpenMesh peer skipped: {e}")
-        om_exe = None
+    exes = {}
+    for peer, build in (("openmesh", lambda: build_openmesh(args.build)),
+                        ("vcglib", lambda: build_vcglib(args.build, args.vcglib, args.meshlab_src))):
+        try:
+            exes[peer] = build()
+        except (RuntimeError, OSError) as e:
+            note(f"{peer} peers skipped: {e}")
+            exes[peer] = None
 
-    meshes = []  # (name, input path, gmsh results)
+    meshes = []  # (name, input path, gmsh results, CAD or None)
+    skipped = []  # rows of the meshes not run
     for s in make_samples.SURFACE_SAMPLES:
         for clean in (False, True):
             name = s["name"] + ("_clean" if clean else "")
-            if args.only and args.only not in name:
+            if not wanted(name):
                 continue
             in_path, res, face_surface = run_cad_sample(s, clean, args.repeat, args.out)
             meshes.append((name, in_path, res, (s, face_surface)))
+    copies = []  # (name, source, title)
     for m in MESQUITE_MESHES:
         path = os.path.join(args.mesquite, m + ".vtk")
-        if args.only and args.only not in m:
+        if not wanted(m):
             continue
         if not os.path.exists(path):
             note(f"{path} not found, skipped")
             continue
+        copies.append((m, path, f"Mesquite {m} (tools/bench_surfaces.py copy)"))
+    if os.path.isdir(args.real):
+        for name, path, why in real_meshes(args.real, wanted):
+            if why is None:
+                copies.append((name, path, f"{name} (tools/bench_surfaces.py copy)"))
+                continue
+            note(f"{name} skipped: {why}")
+            points, faces = read_vtk(path)
+            skipped.append(dict(mesh=name, faces=len(faces), triangles=int((faces[:, 3] < 0).sum()),
+                                vertices=len(points), tool="input", skipped=why))
+    else:
+        note(f"{args.real} not found, the real meshes skipped")
+    for name, path, title in copies:
         # A plain copy (this script's layout), which every tool reads the same.
         points, faces = read_vtk(path)
-        in_path = os.path.join(args.out, "inputs", m + ".vtk")
-        write_vtk(in_path, points, faces, f"Mesquite {m} (tools/bench_surfaces.py copy)")
-        meshes.append((m, in_path, {}, None))
+        in_path = os.path.join(args.out, "inputs", name + ".vtk")
+        write_vtk(in_path, points, faces, title)
+        meshes.append((name, in_path, {}, None))
 
     rows, checked = [], False
     for name, in_path, res, cad in meshes:
@@ -665,18 +895,22 @@ def main():
             diff = vtk_cross_check(p, f)
             note(f"verdict scaled Jacobian vs vtkMeshQuality on {name}: largest difference {diff:.2e}")
             checked = True
-        rows += bench_mesh(args, name, in_path, res, om_exe, cad)
+        rows += bench_mesh(args, name, in_path, res, exes, cad)
         print(f"done {name}", file=sys.stderr, flush=True)
+    rows += skipped
     dom = dominance(rows)
-    print(table(rows))
-    n_dom = sum(1 for d in dom if d["dominated_by"])
-    print(f"\ndominance: {n_dom} of {len(dom)} peer runs dominated by a quadopt preset")
+    print(table(rows, dom))
+    counts = {m: sum(1 for d in dom if d[m]) for m in MEASURES}
+    for m in MEASURES:
+        print(f"dominance ({m} measure): dominated {counts[m]} of {len(dom)} peer runs")
     for d in dom:
-        if not d["dominated_by"]:
-            print(f"  not dominated: {d['mesh']} / {d['peer']}")
+        missing = [m for m in MEASURES if not d[m]]
+        if missing:
+            print(f"  not dominated ({', '.join(missing)}): {d['mesh']} / {d['peer']}")
     with open(os.path.join(args.out, "bench_surfaces.json"), "w") as f:
-        json.dump(dict(rows=rows, dominance=dom, dominated=n_dom, peer_runs=len(dom), repeat=args.repeat,
-                       features=args.features, quadopt=args.quadopt, quadopt_flags=args.quadopt_flags), f, indent=1)
+        json.dump(dict(rows=rows, dominance=dom, dominated=counts, peer_runs=len(dom), repeat=args.repeat,
+                       features=args.features, quadopt=args.quadopt, quadopt_flags=args.quadopt_flags,
+                       vcglib_runs=VCGLIB_RUNS), f, indent=1)
 
 
 if __name__ == "__main__":

@@ -305,8 +305,16 @@ impl Optimizer {
                 return Ok((report, false));
             }
             report.output = report.input;
+        } else if restored > 0 && report.output.inverted > 0 {
+            // The diagnosis describes the output as returned.
+            let features = Features::new(
+                mesh,
+                &self.topology,
+                options.feature_angle_deg,
+                options.boundary != BoundaryMode::Fixed,
+            );
+            report.tangled = untangle::diagnose(mesh.points(), mesh.quads(), &self.topology, &features);
         }
-        let _ = restored;
         let fidelity = &mut report.fidelity;
         fidelity.max_deviation = frame.length_to_original(fidelity.max_deviation);
         fidelity.hausdorff = frame.length_to_original(fidelity.hausdorff);
@@ -477,26 +485,27 @@ mod tests {
 
     #[test]
     fn quads_below_their_bounds_get_their_vertices_back_until_none_is() {
-        // 3x3 unit grid: interior vertex 5 moved (its quads fall to about 0.999), boundary
-        // vertex 1 moved along the boundary (its two quads too), interior vertex 10 moved a
-        // little (its quads stay above the bound of 0.99).
-        let mut m = grid(3, 3);
+        // 4x4 unit grid (vertex j * 5 + i at (i, j)), floor 0.9995: interior vertex 6 moved
+        // (its quads fall to about 0.9992), boundary vertex 1 moved along the boundary (its
+        // quads to about 0.9987), interior vertex 18, far from both, moved a little (its quads
+        // stay above 0.99999).
+        let mut m = grid(4, 4);
         let topo = Topology::new(&m);
         let original = m.points().to_vec();
         let input_values = m.quality_values();
-        let moved = [(5, DVec2::new(1.04, 1.0)), (1, DVec2::new(1.05, 0.0)), (10, DVec2::new(2.0, 2.001))];
+        let moved = [(6, DVec2::new(1.04, 1.0)), (1, DVec2::new(1.05, 0.0)), (18, DVec2::new(3.0, 3.001))];
         for (v, p) in moved {
             m.points_mut()[v] = p;
         }
-        let restored = restore_below_bounds(&mut m, &original, &topo, &input_values, 0.99);
+        let restored = restore_below_bounds(&mut m, &original, &topo, &input_values, 0.9995);
         assert_eq!(restored, 2);
         for (v, &was) in original.iter().enumerate() {
-            let want = if v == 10 { DVec2::new(2.0, 2.001) } else { was };
+            let want = if v == 18 { DVec2::new(3.0, 3.001) } else { was };
             assert_eq!(m.points()[v], want, "vertex {v}");
         }
         // Every quad at or above min(input, floor): nothing changes.
         let before = m.points().to_vec();
-        assert_eq!(restore_below_bounds(&mut m, &original, &topo, &input_values, 0.99), 0);
+        assert_eq!(restore_below_bounds(&mut m, &original, &topo, &input_values, 0.9995), 0);
         assert_eq!(m.points(), &before[..]);
         // A chain: restoring one vertex leaves its neighbour's quad below, which goes back too.
         let mut m = grid(4, 1);

@@ -541,7 +541,10 @@ impl SurfaceOptimizer {
             let verdicts = self.verdicts(&state.points);
             let mut current = (Both::of(&values, &verdicts), state.clone());
             for _ in 0..rounds {
-                let values = self.values(&current.1);
+                // The worst faces in either measure.
+                let verdicts = self.verdicts(&current.1.points);
+                let values: Vec<f64> =
+                    self.values(&current.1).iter().zip(&verdicts).map(|(&s, &v)| s.min(v)).collect();
                 let mut trial = current.1.clone();
                 let moved = self.max_min_round(&surface, &mut trial, &values, curves_move, &mut || {
                     report(iterations, f64::NAN, f64::NAN)

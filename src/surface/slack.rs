@@ -19,8 +19,8 @@
 //! `A`, `B` changes by at most `4 D`, so `|w' - w| <= 4 D (|A| + |B|) + 16 D^2` and the unit
 //! normal turns by at most twice that over `|w|`. A certified move has `2 pi D / L` below a
 //! budget under 2, so `D < L / pi` and `16 D^2 < 16 D L / pi`: Verdict's value falls by at most
-//! `D (2 pi / L + (8 (|A| + |B|) + 32 L / pi) / |w|)`, certified against the face's Verdict
-//! bound. A face whose `w` is small next to `|A| |B|` (nearly parallel diagonals) gets none.
+//! `D (2 pi / L + (8 (|A| + |B|) + 32 L / pi) / |w|)`, certified against the larger of the
+//! face's Verdict bound and `max(floor, 0)` (the star's score takes each face's lower measure). A face whose `w` is small next to `|A| |B|` (nearly parallel diagonals) gets none.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -90,7 +90,7 @@ fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64
     if w >= 1e-3 * la * lb && w > 0.0 {
         let verdict = crate::quality3d::verdict_scaled_jacobian(&q);
         let rate = std::f64::consts::TAU / l + (8.0 * (la + lb) + 32.0 * l / std::f64::consts::PI) / w;
-        budget.verdict = down(verdict - bound.verdict - MARGIN);
+        budget.verdict = down(verdict - base.max(bound.verdict) - MARGIN);
         budget.verdict_per_length = up(rate);
     }
     budget

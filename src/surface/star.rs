@@ -102,7 +102,8 @@ impl Bound {
 }
 
 /// The lexicographic score of a star: fewer faces below their [`Bound`], then fewer inverted
-/// faces, then a higher minimum, then a higher sum of the signed scaled Jacobians.
+/// faces, then a higher minimum, then a higher sum of the faces' values (in a run, each face's
+/// lower value of the two measures, so that a move is judged as both measures see it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Score {
     pub below: u32,
@@ -196,13 +197,17 @@ impl Surface<'_> {
         verdict_scaled_jacobian(&q)
     }
 
-    /// Whether face `f`, of signed value `signed` at `state` with `v` at `at`, is below its
-    /// bound in either measure (a NaN is).
+    /// What face `f`, of signed value `signed` at `state` with `v` at `at`, adds to a star's
+    /// score: the lower of its two measures (the signed one alone when there are no bounds),
+    /// and whether it is below its bound in either (a NaN is).
     #[inline]
-    fn is_below(&self, state: &State, f: usize, signed: f64, moved: Option<(usize, &Placed)>) -> bool {
+    fn scored(&self, state: &State, f: usize, signed: f64, moved: Option<(usize, &Placed)>) -> (f64, bool) {
         match self.bounds.get(f) {
-            None => false,
-            Some(b) => !(signed >= b.signed) || !(self.face_verdict(state, f, moved) >= b.verdict),
+            None => (signed, false),
+            Some(b) => {
+                let verdict = self.face_verdict(state, f, moved);
+                (signed.min(verdict), !(signed >= b.signed) || !(verdict >= b.verdict))
+            }
         }
     }
 
@@ -211,8 +216,9 @@ impl Surface<'_> {
         let mut s = Score::EMPTY;
         for &f in self.topo.vertex_quads(v) {
             let moved = at.map(|a| (v, a));
-            let value = self.face_value(state, f as usize, moved);
-            s.below += u32::from(self.is_below(state, f as usize, value, moved));
+            let (value, below) =
+                self.scored(state, f as usize, self.face_value(state, f as usize, moved), moved);
+            s.below += u32::from(below);
             s.add(value);
         }
         s
@@ -256,7 +262,8 @@ impl Surface<'_> {
                 }
                 None => self.face_value(state, f, Some((v, at))),
             };
-            s.below += u32::from(self.is_below(state, f, value, Some((v, at))));
+            let (value, below) = self.scored(state, f, value, Some((v, at)));
+            s.below += u32::from(below);
             s.add(value);
         }
         s

@@ -58,8 +58,16 @@ struct Budget {
 }
 
 /// Face `f`'s budgets at `state` (its signed value `value`) above `base` (the signed measure)
-/// and its Verdict bound; none for a triangle or a face near the degenerate-edge cut-off.
-fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64) -> Budget {
+/// and its Verdict bound (its Verdict value `verdict` when known, so a sweep's pass computes
+/// it once); none for a triangle or a face near the degenerate-edge cut-off.
+fn face_budget(
+    surface: &Surface,
+    state: &State,
+    f: usize,
+    value: f64,
+    verdict: Option<f64>,
+    base: f64,
+) -> Budget {
     let face = &surface.faces[f];
     if is_triangle(face) {
         return Budget::default();
@@ -88,7 +96,7 @@ fn face_budget(surface: &Surface, state: &State, f: usize, value: f64, base: f64
     let (la, lb) = (a.length(), b.length());
     let w = a.cross(b).length();
     if w >= 1e-3 * la * lb && w > 0.0 {
-        let verdict = crate::quality3d::verdict_scaled_jacobian(&q);
+        let verdict = verdict.unwrap_or_else(|| crate::quality3d::verdict_scaled_jacobian(&q));
         let rate = std::f64::consts::TAU / l + (8.0 * (la + lb) + 32.0 * l / std::f64::consts::PI) / w;
         budget.verdict = down(verdict - base.max(bound.verdict) - MARGIN);
         budget.verdict_per_length = up(rate);
@@ -136,7 +144,7 @@ impl Slack {
     /// are `values`.
     pub fn reset(&mut self, surface: &Surface, state: &State, values: &[f64], floor: f64) {
         let base = floor.max(0.0);
-        let budget = |(f, &value): (usize, &f64)| face_budget(surface, state, f, value, base);
+        let budget = |(f, &value): (usize, &f64)| face_budget(surface, state, f, value, None, base);
         // Once per sweep over every face: in parallel on large meshes (as the values are).
         if surface.faces.len() >= PARALLEL_MIN {
             values.par_iter().enumerate().map(budget).collect_into_vec(&mut self.budget);
@@ -154,7 +162,7 @@ impl Slack {
         let all = |f: usize| {
             let value = surface.face_value(state, f, None);
             let verdict = surface.face_verdict(state, f, None);
-            ((value, verdict), face_budget(surface, state, f, value, base))
+            ((value, verdict), face_budget(surface, state, f, value, Some(verdict), base))
         };
         let mut values: Vec<(f64, f64)> = Vec::new();
         if surface.faces.len() >= PARALLEL_MIN {

@@ -749,9 +749,10 @@ static void test_errors(void) {
     EXPECT_FAILURE(QUADOPT_STATUS_CANCELLED, xy, 2, GRID_N, grid_quads, GRID_Q, NULL, &o, "cancel");
     CHECK(count == 3);
   }
-  /* QUADOPT_STATUS_PANIC (a library bug) and QUADOPT_STATUS_NOT_PLANAR (reserved) cannot be
-   * produced by input; their strings were checked above. QUADOPT_STATUS_OUT_OF_MEMORY needs
-   * a memory limit: see test_fork_and_memory_limits. */
+  /* QUADOPT_STATUS_PANIC (a library bug) cannot be produced by input; its string was checked
+   * above. QUADOPT_STATUS_NOT_PLANAR comes from a reusable handle given a curved mesh: see
+   * test_surface and test_planarity. QUADOPT_STATUS_OUT_OF_MEMORY needs a memory limit: see
+   * test_fork_and_memory_limits. */
 }
 
 #ifdef QUADOPT_TEST_POSIX
@@ -934,6 +935,84 @@ static void test_surface(void) {
   }
 }
 
+/* The library's one planarity rule (quadopt_is_planar(), what quadopt_optimize() and the
+ * handle decide with): a closed curved mesh given to a reusable handle is not planar, not
+ * closed; a sheet whose z wobbles by 1e-4 is a surface (optimized on it, never flattened); an
+ * exactly planar grid in a tilted plane is planar (optimized in its plane). */
+#define SHEET_M 8
+#define SHEET_N ((SHEET_M + 1) * (SHEET_M + 1))
+#define SHEET_F (SHEET_M * SHEET_M)
+
+static void sheet(double *xyz, uint32_t *faces, int tilted) {
+  int i, j;
+  for (j = 0; j <= SHEET_M; ++j) {
+    for (i = 0; i <= SHEET_M; ++i) {
+      double *p = &xyz[3 * (j * (SHEET_M + 1) + i)];
+      p[0] = (double)i / SHEET_M;
+      p[1] = (double)j / SHEET_M;
+      if (i > 0 && i < SHEET_M && j > 0 && j < SHEET_M) {
+        p[0] += 0.3 / SHEET_M * sin(7.0 * i + 3.0 * j);
+        p[1] += 0.3 / SHEET_M * cos(5.0 * i - 2.0 * j);
+      }
+      p[2] = tilted ? 0.3 * p[0] + 0.7 * p[1] : 1e-4 * sin(8 * kPi8 * p[0]) * cos(8 * kPi8 * p[1]);
+    }
+  }
+  for (j = 0; j < SHEET_F; ++j) {
+    const uint32_t v = (uint32_t)((j / SHEET_M) * (SHEET_M + 1) + j % SHEET_M);
+    faces[4 * j] = v;
+    faces[4 * j + 1] = v + 1;
+    faces[4 * j + 2] = v + SHEET_M + 2;
+    faces[4 * j + 3] = v + SHEET_M + 1;
+  }
+}
+
+static void test_planarity(void) {
+  /* A cube of six quads, one corner pushed outward: closed and curved. */
+  const double cube[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1.3, 1.3, 1.3, 0, 1, 1};
+  const uint32_t sides[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  double xyz[3 * SHEET_N], before[3 * SHEET_N], again[3 * SHEET_N];
+  uint32_t faces[4 * SHEET_F];
+  QuadoptPlanarity p;
+  QuadoptReport r = quadopt_report_init();
+  QuadoptOptimizer *handle = NULL;
+  double zmax = 0, off = 0;
+  int v;
+  CHECK_STATUS(quadopt_optimizer_create(cube, 3, 8, sides, 6, NULL, &handle), QUADOPT_STATUS_NOT_PLANAR);
+  CHECK(handle == NULL && strstr(quadopt_last_error(), "quadopt_optimize_surface()") != NULL);
+  CHECK_STATUS(quadopt_is_planar(cube, 8, sides, 6, &p), QUADOPT_STATUS_OK);
+  CHECK(p.planar == 0 && p.distance > p.tolerance);
+  CHECK_STATUS(quadopt_is_planar(cube, 8, sides, 6, NULL), QUADOPT_STATUS_NULL_POINTER);
+
+  sheet(xyz, faces, 0);
+  memcpy(before, xyz, sizeof xyz);
+  CHECK_STATUS(quadopt_is_planar(xyz, SHEET_N, faces, SHEET_F, &p), QUADOPT_STATUS_OK);
+  CHECK(p.planar == 0);
+  CHECK_STATUS(quadopt_optimize(xyz, 3, SHEET_N, faces, SHEET_F, NULL, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.surface == 1 && r.max_distance_relative <= 1e-9 && r.output.min > r.input.min);
+  for (v = 0; v < SHEET_N; ++v) zmax = fabs(xyz[3 * v + 2]) > zmax ? fabs(xyz[3 * v + 2]) : zmax;
+  CHECK(zmax > 0.5e-4); /* not flattened */
+  CHECK_STATUS(quadopt_optimizer_create(before, 3, SHEET_N, faces, SHEET_F, NULL, &handle), QUADOPT_STATUS_NOT_PLANAR);
+
+  sheet(xyz, faces, 1);
+  memcpy(before, xyz, sizeof xyz);
+  CHECK_STATUS(quadopt_is_planar(xyz, SHEET_N, faces, SHEET_F, &p), QUADOPT_STATUS_OK);
+  CHECK(p.planar == 1);
+  r = quadopt_report_init();
+  CHECK_STATUS(quadopt_optimize(xyz, 3, SHEET_N, faces, SHEET_F, NULL, NULL, &r), QUADOPT_STATUS_OK);
+  CHECK(r.surface == 0 && r.output.min > r.input.min);
+  for (v = 0; v < SHEET_N; ++v) {
+    const double d = fabs(0.3 * xyz[3 * v] + 0.7 * xyz[3 * v + 1] - xyz[3 * v + 2]);
+    off = d > off ? d : off;
+  }
+  CHECK(off < 1e-14);                                          /* in the plane */
+  CHECK(memcmp(xyz, before, 3 * sizeof(double)) == 0);         /* a corner is not written */
+  memcpy(again, before, sizeof before);
+  CHECK_STATUS(quadopt_optimizer_create(before, 3, SHEET_N, faces, SHEET_F, NULL, &handle), QUADOPT_STATUS_OK);
+  CHECK_STATUS(quadopt_optimizer_optimize(handle, again, 3, SHEET_N, NULL, NULL), QUADOPT_STATUS_OK);
+  CHECK(memcmp(again, xyz, sizeof xyz) == 0);
+  quadopt_optimizer_free(handle);
+}
+
 int main(void) {
   /* Nothing failed on this thread yet. */
   CHECK(quadopt_last_error() != NULL && quadopt_last_error()[0] == '\0');
@@ -947,6 +1026,7 @@ int main(void) {
   test_errors();
   test_mixed();
   test_surface();
+  test_planarity();
   CHECK(cancel_calls == 3);
 #ifdef QUADOPT_TEST_POSIX
   test_fork_and_memory_limits();

@@ -5,15 +5,18 @@
  * QUADOPT_STATUS_OK nothing has been written to the caller's buffers, and
  * quadopt_last_error() gives a detailed message (thread-local).
  * Counts are size_t, vertex indices uint32_t, coordinates `dim` (2 or 3) doubles per vertex
- * of which x and y are read and written, z never written, for a planar mesh (the same z at
- * every vertex); a mesh on a curved surface (quadopt_optimize_surface(), or
- * quadopt_optimize() with dim 3 and a z that varies) is optimized on that surface in 3D.
+ * of which x and y are read and written, z never written, for a mesh in a plane z = const;
+ * a dim 3 mesh in another plane (to within rounding: quadopt_is_planar(), the one planarity
+ * rule of the library, its command-line tool and its C++ adapters) is optimized in that
+ * plane, and a mesh on a curved surface (quadopt_optimize_surface(), or quadopt_optimize()
+ * with dim 3 coordinates that are not planar) on that surface in 3D, never flattened.
  *
  * Threads: every function may be called from several threads at once. Optimizations run on
- * the library's own pool of worker threads (RAYON_NUM_THREADS, else one per core), started on
- * first use; the result does not depend on the number of threads. A pool that cannot start
- * leaves no thread behind: the call runs on a single worker thread, or returns
- * QUADOPT_STATUS_OUT_OF_MEMORY if not even one can start, and later calls try again.
+ * the library's own pool of worker threads (RAYON_NUM_THREADS, else one per core; never more
+ * than four per core or 16, whichever is more), started on first use; the result does not
+ * depend on the number of threads. A pool that cannot start leaves no thread behind: the call
+ * runs on a single worker thread, or returns QUADOPT_STATUS_OUT_OF_MEMORY if not even one can
+ * start, and later calls try again.
  * fork: a child forked after the parent has used quadopt (on any thread) can use it too: the
  * child's first call starts a pool of its own. Do not fork inside a progress callback.
  * Memory: what grows with the input is allocated fallibly, and the memory the optimizer needs
@@ -122,10 +125,12 @@ typedef enum QuadoptStatus {
      */
     QUADOPT_STATUS_PANIC = 12,
     /**
-     * The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates whose
-     * z varies given to a reusable optimizer (`quadopt_optimizer_create()`,
-     * `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on its surface
-     * instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses it too.
+     * The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates that do
+     * not lie on one plane to within rounding (`quadopt_is_planar()`'s rule) given to a reusable
+     * optimizer (`quadopt_optimizer_create()`, where it comes before any other check of the
+     * mesh, and `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on
+     * its surface instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses
+     * it too.
      */
     QUADOPT_STATUS_NOT_PLANAR = 13,
     /**
@@ -658,6 +663,29 @@ typedef struct QuadoptReport {
     size_t patches;
 } QuadoptReport;
 
+/**
+ * Whether a mesh in 3D lies in a plane, by the rule every interface applies (see
+ * `quadopt_is_planar()`).
+ */
+typedef struct QuadoptPlanarity {
+    /**
+     * 1 when the vertices used by a face lie on one plane to within rounding, else 0.
+     */
+    uint32_t planar;
+    /**
+     * When `planar` is 0: the used vertex farthest from the best-fit plane (0-based); else 0.
+     */
+    size_t vertex;
+    /**
+     * When `planar` is 0: that vertex's distance from the best-fit plane; else 0.
+     */
+    double distance;
+    /**
+     * When `planar` is 0: the largest distance accepted (see `quadopt_is_planar()`); else 0.
+     */
+    double tolerance;
+} QuadoptPlanarity;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -706,12 +734,16 @@ struct QuadoptReport quadopt_report_init(void);
  * connectivity, corners, fixed vertices and the boundary. On any error, cancellation
  * included, neither `coords` nor `report` is written.
  *
- * A planar mesh (`dim` 2, or `dim` 3 with the same z at every vertex: equal, or the same
- * bits) is optimized in the plane: x and y of each vertex move and z is never written. A
- * `dim` 3 mesh whose z varies lies on a curved surface: it is optimized on that surface in 3D
- * as `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a
- * closed surface accepted; the report's `surface` is 1). A mesh in a tilted plane is such a
- * mesh too: to optimize it in its plane, give its 2D coordinates in that plane.
+ * A planar mesh is optimized in its plane: `dim` 2, or `dim` 3 with the same z at every vertex
+ * used by a face (x and y of each vertex move and z is never written). A `dim` 3 mesh is
+ * planar when the vertices used by its faces lie on one plane to within rounding (the
+ * library's one planarity rule, the command-line tool's and the C++ adapters' too: see
+ * `quadopt_is_planar()`); in a plane x or y = const, or a tilted plane, it is optimized in
+ * an orthonormal frame of that plane and each moved vertex is written back as its point of
+ * the plane (vertices that do not move are not written). Any other `dim` 3 mesh lies on a
+ * curved surface, however slightly curved: it is optimized on that surface in 3D as
+ * `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a closed
+ * surface accepted; the report's `surface` is 1), never flattened.
  *
  * - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
  * - `dim`: 2 or 3 doubles per vertex.
@@ -747,10 +779,11 @@ enum QuadoptStatus quadopt_optimize(double *coords,
  * `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
  * against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
  * image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
- * A `dim` 3 mesh whose z varies lies on a curved surface: each face's value is then the
- * signed measure a surface run reports as its `input` (each corner against the normal of the
- * mesh's surface there, so a face folded over is negative; with the default feature angle and
- * no marked edge), and a closed mesh is accepted.
+ * A `dim` 3 mesh is measured where `quadopt_optimize()` would optimize it: a planar one in its
+ * plane, and one on a curved surface (not planar by `quadopt_is_planar()`'s rule) on that
+ * surface: each face's value is then the signed measure a surface run reports as its `input`
+ * (each corner against the normal of the mesh's surface there, so a face folded over is
+ * negative; with the default feature angle and no marked edge), and a closed mesh is accepted.
  *
  * # Safety
  * Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
@@ -814,11 +847,42 @@ enum QuadoptStatus quadopt_optimize_surface(double *coords,
                                             struct QuadoptReport *report);
 
 /**
+ * Decides whether a mesh in 3D is planar, by the library's one planarity rule, the one
+ * `quadopt_optimize()` and `quadopt_quality()` apply to `dim` 3 coordinates, the
+ * command-line tool to its files and the C++ adapters to their meshes: the mesh is planar
+ * when the vertices used by a face lie on one plane to within rounding. That is, one
+ * coordinate (x, y or z) is the same at every used vertex, or every used vertex is within
+ * 1e-12 times the bounding-box diagonal of the used vertices, plus 16 machine epsilons times
+ * their largest coordinate in magnitude, of the least-squares plane. A mesh in a tilted plane
+ * whose coordinates were rounded to doubles is planar; anything farther lies on a curved
+ * surface (a sheet whose z wobbles by 1e-4 of its size, a tilted plane stored with 6
+ * significant digits) and is optimized on that surface, never flattened.
+ *
+ * - `coords`: `3 * vertex_count` doubles (x, y, z per vertex); NULL only if `vertex_count` is
+ *   0. A NaN or infinite coordinate of any vertex is `QUADOPT_STATUS_NON_FINITE_COORDINATE`.
+ * - `quads`: `4 * quad_count` vertex indices as in `quadopt_optimize()` (a triangle's fourth
+ *   is `QUADOPT_NO_VERTEX`); only which vertices they use is read, and an index out of range
+ *   is no vertex. NULL with `quad_count` 0: every vertex counts.
+ * - `out`: receives the answer (required); not written on error.
+ *
+ * # Safety
+ * Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
+ * duration of the call.
+ */
+enum QuadoptStatus quadopt_is_planar(const double *coords,
+                                     size_t vertex_count,
+                                     const uint32_t *quads,
+                                     size_t quad_count,
+                                     struct QuadoptPlanarity *out);
+
+/**
  * Creates a reusable optimizer for one connectivity: validates the mesh (arrays as in
- * `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only:
- * `dim` 3 coordinates whose z varies are `QUADOPT_STATUS_NOT_PLANAR` (here and in
- * `quadopt_optimizer_optimize()`; use `quadopt_optimize()` or `quadopt_optimize_surface()`
- * for a mesh on a curved surface). The orientation and the fixed flags are taken from this
+ * `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only
+ * (`dim` 2, or `dim` 3 in a plane by `quadopt_is_planar()`'s rule, as `quadopt_optimize()`
+ * decides): a `dim` 3 mesh that is not planar is `QUADOPT_STATUS_NOT_PLANAR`, here (before
+ * any other check of the mesh, so a closed surface is not planar rather than closed) and in
+ * `quadopt_optimizer_optimize()`; use `quadopt_optimize_surface()` (or `quadopt_optimize()`)
+ * for a mesh on a curved surface. The orientation and the fixed flags are taken from this
  * call. On success `*out` receives the handle (free it with
  * `quadopt_optimizer_free()`); on error `*out` is not written.
  *

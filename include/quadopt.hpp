@@ -217,8 +217,8 @@ class Options {
   Options &max_boundary_deviation(double v) { raw_.max_boundary_deviation = v; return *this; }
   /// The max-min stage after the sweeps (raises the worst quad) on or off.
   Options &max_min(bool on) { raw_.max_min = on ? 1 : 0; return *this; }
-  /// Stop on the energy change (QUADOPT_STOP_RULE_ENERGY, the default) or when the quality
-  /// stops improving (QUADOPT_STOP_RULE_QUALITY).
+  /// Stop when the quality stops improving (QUADOPT_STOP_RULE_QUALITY, the default) or on the
+  /// energy change (QUADOPT_STOP_RULE_ENERGY, the paper's rule, with tau).
   Options &stop_rule(QuadoptStopRule rule) { raw_.stop_rule = static_cast<std::uint32_t>(rule); return *this; }
   /// A progress callback (an empty function removes it).
   Options &progress(ProgressFn fn) {

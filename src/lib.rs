@@ -64,6 +64,7 @@ pub use error::{Error, Result};
 pub use features::Features;
 pub use glam::{DVec2, DVec3};
 pub use mesh::Mesh;
+pub use pool::max_threads;
 
 /// The mesh type's name before it took triangles ([`Mesh`]); kept so code written against it
 /// compiles unchanged.

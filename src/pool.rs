@@ -1,6 +1,13 @@
 //! quadopt's worker threads: one rayon pool per process, never rayon's global pool. The C ABI
 //! and the Rust API (`Optimizer::run` called outside any rayon pool) run on it.
 //!
+//! - The pool has `RAYON_NUM_THREADS` workers, else one per core of the available
+//!   parallelism, and never more than [`max_threads`] (four per core or 16, whichever is more): an absurd
+//!   count (`RAYON_NUM_THREADS=100000`) gets the capped pool, not thousands of threads that
+//!   exhaust the address space. Workers are started one at a time, each after the previous one
+//!   is running, so every allocation a starting thread makes (its stack, and the signal stack
+//!   the Rust runtime maps in the new thread, whose failure aborts the process) is done before
+//!   the next thread asks for memory; a spawn that fails is an error, handled below.
 //! - The pool is built on first use. A pool that cannot start (a thread limit, no memory for
 //!   a stack) leaves no thread behind: the threads it did start are joined. The call then runs
 //!   on a single worker joined before it returns, or fails with a status if even that one
@@ -44,6 +51,37 @@ static SHARED: AtomicPtr<ProcessPool> = AtomicPtr::new(std::ptr::null_mut());
 #[cfg(test)]
 pub(crate) static THREAD_LIMIT: std::sync::atomic::AtomicUsize =
     std::sync::atomic::AtomicUsize::new(usize::MAX);
+
+/// Worker threads per core of the available parallelism at most (see [`max_threads`]).
+const THREADS_PER_CORE: usize = 4;
+
+/// The cap's floor, so that a machine reporting one core can still run a few threads.
+const MIN_THREAD_CAP: usize = 16;
+
+/// The most worker threads quadopt starts in one pool: four per core of the available
+/// parallelism ([`std::thread::available_parallelism`]), and at least 16. quadopt's own pool
+/// takes `RAYON_NUM_THREADS` (else one per core) up to this cap; the CLI's `--threads` is
+/// capped alike. More threads than this cannot make a run faster (the result is the same on
+/// any number of threads), and thousands of them only exhaust the address space.
+pub fn max_threads() -> usize {
+    cores().saturating_mul(THREADS_PER_CORE).max(MIN_THREAD_CAP)
+}
+
+/// The available parallelism (1 when it cannot be determined).
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The worker count of this process's pool: `RAYON_NUM_THREADS` when it is a positive number
+/// (as rayon reads it), else the available parallelism; never more than [`max_threads`].
+fn pool_threads() -> usize {
+    let requested = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|s| s.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(cores);
+    requested.min(max_threads())
+}
 
 /// The threads could not be started; the message says why.
 #[derive(Debug)]
@@ -178,13 +216,15 @@ fn shared() -> Option<&'static ThreadPool> {
     }
 }
 
-/// Builds a pool of `threads` workers (by default `RAYON_NUM_THREADS`, else the available
-/// parallelism) and returns it with the workers' handles. When a thread cannot start, the
-/// threads already started are joined before the error is returned.
+/// Builds a pool of `threads` workers (by default [`pool_threads`]: `RAYON_NUM_THREADS`, else
+/// the available parallelism, capped at [`max_threads`]) and returns it with the workers'
+/// handles. Each worker is started only once the previous one runs (see the module docs).
+/// When a thread cannot start, the threads already started are joined before the error is
+/// returned.
 fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), String> {
     let mut started = Vec::new();
     let built = ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
+        .num_threads(threads.unwrap_or_else(pool_threads).clamp(1, max_threads()))
         .thread_name(|i| format!("quadopt-{i}"))
         .spawn_handler(|thread| {
             spawn_allowed(thread.index())?;
@@ -195,7 +235,10 @@ fn build(threads: Option<usize>) -> Result<(ThreadPool, Vec<JoinHandle<()>>), St
             if let Some(size) = thread.stack_size() {
                 b = b.stack_size(size);
             }
-            started.push(b.spawn(move || run_worker(thread))?);
+            let (running, is_running) = mpsc::sync_channel::<()>(1);
+            started.push(b.spawn(move || run_worker(thread, running))?);
+            // The new thread has its stacks once it runs: wait for that before the next spawn.
+            let _ = is_running.recv();
             Ok(())
         })
         .build();
@@ -248,9 +291,11 @@ mod before_fork {
     pub(super) fn install() {}
 }
 
-/// The body of every worker thread.
-fn run_worker(thread: ThreadBuilder) {
+/// The body of every worker thread; `running` tells the spawning thread that it has started.
+fn run_worker(thread: ThreadBuilder, running: mpsc::SyncSender<()>) {
     crate::quiet_threads::mark_worker_thread();
+    let _ = running.send(());
+    drop(running);
     thread.run();
 }
 

@@ -360,12 +360,26 @@ fn curved_mesh_is_rejected() {
         }
         other => panic!("expected NotPlanar, got {other:?}"),
     }
-    // A deviation below the tolerance (6-digit coordinates) is accepted.
-    let mut data = tilted_grid([0.0; 3], [0.6, 0.0, 0.8], [0.0, 1.0, 0.0]);
-    for p in &mut data.points {
+    // The tolerance is rounding's: a tilted plane in doubles is planar, the same plane written
+    // with 6 decimals (1e-7 of its size off the plane) is a surface, and so is a sheet whose z
+    // wobbles by 1e-4 of its size.
+    let tilted = tilted_grid([0.0; 3], [0.6, 0.0, 0.8], [0.0, 1.0, 0.0]);
+    assert!(PlanarMesh::new(&tilted).is_ok());
+    let mut rounded = tilted.clone();
+    for p in &mut rounded.points {
         *p = p.map(|c| format!("{c:.6}").parse().unwrap());
     }
-    assert!(PlanarMesh::new(&data).is_ok());
+    match PlanarMesh::new(&rounded) {
+        Err(IoError::Mesh(Error::NotPlanar { distance, tolerance, .. })) => {
+            assert!(distance > 1e-8 && tolerance < 1e-10, "{distance} {tolerance}")
+        }
+        other => panic!("expected NotPlanar, got {other:?}"),
+    }
+    let mut wobble = tilted_grid([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    for p in &mut wobble.points[..25] {
+        p[2] = 4e-4 * (p[0] * 1.7).sin() * (p[1] * 0.9).cos();
+    }
+    assert!(matches!(PlanarMesh::new(&wobble), Err(IoError::Mesh(Error::NotPlanar { .. }))));
 }
 
 #[test]

@@ -393,3 +393,74 @@ fn generate_refuses_grids_too_large_with_one_line() {
     }
     assert!(!out.exists(), "nothing is written on an error");
 }
+
+/// An absurd `RAYON_NUM_THREADS` under an address-space limit of 4 GiB: quadopt's pool is capped
+/// at `quadopt::max_threads()` workers (not one thread per requested count until the address
+/// space runs out, where a thread's signal stack failing to map aborts the process), and the
+/// call gives the unlimited result.
+#[test]
+fn an_absurd_thread_count_gets_the_capped_pool() {
+    const NAME: &str = "an_absurd_thread_count_gets_the_capped_pool";
+    if !is_child(NAME) {
+        return run_in_child_with(NAME, &[("RAYON_NUM_THREADS", "100000")]);
+    }
+    let (coords, quads) = jittered_grid(6);
+    let baseline = thread_count();
+    set_address_space_limit(4 << 30);
+    let (s, c) = optimize(&coords, &quads);
+    let message = last_error();
+    set_address_space_limit(libc::RLIM_INFINITY);
+    assert_eq!(s, QuadoptStatus::Ok, "{message}");
+    let cap = quadopt::max_threads();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(cap, (4 * cores).max(16));
+    assert_eq!(thread_count(), baseline + cap);
+    // The Rust API runs on the same pool, with the same result.
+    assert_eq!(optimize_rust(&coords, &quads), c);
+    assert_eq!(thread_count(), baseline + cap);
+}
+
+/// The attack's case: the CLI with `RAYON_NUM_THREADS=100000` under an address-space limit of
+/// 4 GiB optimizes the mesh (with a capped pool) on every try, and never aborts.
+#[test]
+fn the_cli_with_an_absurd_thread_count_never_aborts() {
+    use std::os::unix::process::CommandExt;
+    let dir = std::env::temp_dir().join(format!("quadopt-threads-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (input, output) = (dir.join("in.obj"), dir.join("out.obj"));
+    let (coords, quads) = jittered_grid(20);
+    let mut obj = String::new();
+    for p in coords.chunks(2) {
+        obj += &format!("v {} {} 0\n", p[0], p[1]);
+    }
+    for q in quads.chunks(4) {
+        obj += &format!("f {} {} {} {}\n", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+    }
+    std::fs::write(&input, obj).unwrap();
+    // Limits a few pages apart: where the address space runs out varies from try to try.
+    for k in 0..6u64 {
+        let bytes: libc::rlim_t = (4 << 30) + k * 37 * 4096;
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_quadopt"));
+        cmd.arg("optimize").arg(&input).arg("-o").arg(&output).env("RAYON_NUM_THREADS", "100000");
+        // SAFETY: only async-signal-safe system calls between fork and exec.
+        unsafe {
+            cmd.pre_exec(move || {
+                let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+                if libc::getrlimit(libc::RLIMIT_AS, &mut limit) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                limit.rlim_cur = bytes.min(limit.rlim_max);
+                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let o = cmd.output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "try {k}: {:?}\n{stderr}", o.status);
+        assert!(output.exists(), "try {k}: nothing written");
+        std::fs::remove_file(&output).unwrap();
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

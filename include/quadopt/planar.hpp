@@ -1,17 +1,23 @@
 // quadopt/planar.hpp: the plane of a 3D mesh and its 2D frame, for the OpenMesh and CGAL
-// adapters. The same rules as the command-line tool (src/io/planar.rs), in C++:
+// adapters. Whether a mesh is planar is the library's one rule, the command-line tool's and
+// the C ABI's too, asked of the library (quadopt_is_planar()); the frame is computed here as
+// the command-line tool computes it (src/io/planar.rs):
 //
 // - If one coordinate is the same at every vertex used by a face (the plane z = c, the usual
 //   case, or x = c, y = c), the 2D coordinates are the other two, unchanged, and the constant
 //   one is kept: nothing is rounded.
-// - Otherwise the plane is fitted by least squares (centroid and the covariance matrix's
-//   eigenvector of the smallest eigenvalue, by Jacobi rotations) and the 2D coordinates are
-//   taken in an orthonormal frame of that plane. A moved vertex is written back as its point
-//   of the plane; vertices that did not move keep their coordinates bit for bit.
-// - A mesh whose used vertices lie farther than planar::tolerance (1e-5) times the bounding
-//   box diagonal from the fitted plane is curved: NotPlanar (an Error with status
-//   QUADOPT_STATUS_NOT_PLANAR) names the farthest vertex. The adapters' optimize() catches it
-//   and optimizes the mesh on its surface in 3D instead.
+// - Otherwise the mesh is planar when its used vertices lie on their least-squares plane to
+//   within rounding (1e-12 of their bounding-box diagonal, plus 16 machine epsilons of their
+//   largest coordinate: see quadopt_is_planar()); the plane is fitted by least squares
+//   (centroid and the covariance matrix's eigenvector of the smallest eigenvalue, by Jacobi
+//   rotations) and the 2D coordinates are taken in an orthonormal frame of that plane. A moved
+//   vertex is written back as its point of the plane; vertices that did not move keep their
+//   coordinates bit for bit.
+// - Any other mesh lies on a curved surface, however slightly (a sheet whose z wobbles by 1e-4
+//   of its size; a tilted plane stored in floats or with 6 significant digits): NotPlanar (an
+//   Error with status QUADOPT_STATUS_NOT_PLANAR) names the farthest vertex. The adapters'
+//   optimize() catches it and optimizes the mesh on its surface in 3D instead: a surface is
+//   never flattened.
 //
 // The fit works on coordinates scaled by a power of two (exact), so it behaves the same at any
 // finite scale, and gives the command-line tool's frame bit for bit.
@@ -47,7 +53,7 @@ class NotPlanar : public Error {
   std::size_t vertex() const noexcept { return vertex_; }
   /// Its distance from the best-fit plane.
   double distance() const noexcept { return distance_; }
-  /// The largest distance accepted (planar::tolerance times the bounding-box diagonal).
+  /// The largest distance accepted (QuadoptPlanarity::tolerance, see quadopt_is_planar()).
   double tolerance() const noexcept { return tolerance_; }
 
  private:
@@ -66,9 +72,11 @@ class NotPlanar : public Error {
 
 namespace planar {
 
-/// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
-/// used vertices (the command-line tool's PLANARITY_TOLERANCE).
-constexpr double tolerance = 1e-5;
+/// Largest allowed distance from the fitted plane relative to the bounding-box diagonal of the
+/// used vertices (the library's PLANARITY_TOLERANCE): rounding only. The library decides
+/// (quadopt_is_planar(), which adds 16 machine epsilons of the largest coordinate); this is
+/// its first term, for reference.
+constexpr double tolerance = 1e-12;
 
 /// Relative margin within which the frame's discrete choices (the normal's sign, u's axis)
 /// count components as equal (the command-line tool's FRAME_TIE).
@@ -85,8 +93,9 @@ class Frame {
 
   /// Fits the plane of the points `xyz` (3 doubles per vertex) whose `used` flag is nonzero
   /// (all when `used` is empty). Throws NotPlanar naming the farthest vertex (its index in
-  /// `names` when given, else in `xyz`) when they are not planar, and Error with status
-  /// QUADOPT_STATUS_NON_FINITE_COORDINATE for a NaN or infinite coordinate.
+  /// `names` when given, else in `xyz`) when they are not planar by the library's rule
+  /// (quadopt_is_planar()), and Error with status QUADOPT_STATUS_NON_FINITE_COORDINATE for a
+  /// NaN or infinite coordinate.
   static Frame fit(const std::vector<double> &xyz, const std::vector<std::uint8_t> &used, const std::string &library,
                    const std::vector<std::size_t> *names = nullptr) {
     const std::size_t n = xyz.size() / 3;
@@ -112,6 +121,16 @@ class Frame {
         f.value_ = value;
         return f;
       }
+    }
+    // Not in a plane x, y or z = const: the library decides whether it is planar, on the used
+    // points alone (the same sums, in the same order, as on the whole mesh).
+    {
+      std::vector<double> points;
+      points.reserve(3 * idx.size());
+      for (std::size_t i : idx) points.insert(points.end(), &xyz[3 * i], &xyz[3 * i] + 3);
+      QuadoptPlanarity p{};
+      check(quadopt_is_planar(points.data(), idx.size(), nullptr, 0, &p));
+      if (!p.planar) throw NotPlanar(name(idx[p.vertex]), p.distance, p.tolerance, library);
     }
     double lo[3], hi[3];
     for (int c = 0; c < 3; ++c) lo[c] = hi[c] = xyz[3 * idx[0] + c];
@@ -145,23 +164,6 @@ class Frame {
     }
     double normal[3];
     smallest_eigenvector(cov, normal);
-    double diag[3];
-    for (int c = 0; c < 3; ++c) diag[c] = scaled(hi[c] - lo[c]);
-    const double tol = tolerance * std::sqrt(dot(diag, diag));
-    std::size_t worst = idx[0];
-    double distance = 0;
-    for (std::size_t i : idx) {
-      double d[3];
-      for (int c = 0; c < 3; ++c) d[c] = scaled(xyz[3 * i + c] - origin[c]);
-      const double di = std::fabs(dot(d, normal));
-      if (di > distance) {
-        worst = i;
-        distance = di;
-      }
-    }
-    if (distance > tol) {
-      throw NotPlanar(name(worst), std::ldexp(distance, e), std::ldexp(tol, e), library);
-    }
     // The normal's sign and u's axis are discrete choices: taken with a relative margin
     // (kFrameTie) so that a rescaled copy of the mesh, whose fitted normal differs in its
     // last bits, gets the same frame; the same rule as quadopt's own (src/io/planar.rs).

@@ -3,6 +3,7 @@
 //! `isize::MAX`, `uint32_t` index ranges) before they are read into owned memory or written.
 
 use crate::alloc::try_with_capacity;
+use crate::io::PlanarFrame;
 use crate::mesh::Mesh;
 use crate::quiet_threads;
 use crate::surface::SurfaceMesh;
@@ -231,23 +232,185 @@ pub(super) unsafe fn read_mesh(
     Ok(Mesh::with_faces(points, quads, fixed)?)
 }
 
-/// Whether `coords` holds 3D points (`dim` 3) whose z is not the same at every vertex: a mesh
-/// on a curved surface, for the surface optimizer. "The same" is equal (`-0.0` and `0.0`
-/// included) or bit-identical (so a z left as one NaN pattern stays the planar path's, whose
-/// z is never read). False whenever a check of the arguments fails, so that the planar path,
-/// which checks them first, reports the failure exactly as before.
+/// Where a mesh given to a planar-or-surface entry point lies, by the library's one
+/// planarity rule ([`PlanarFrame::fit`], `src/io/planar.rs`: the vertices used by a face lie on
+/// a plane to within rounding).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Plane {
+    /// x and y are the plane's coordinates: `dim` 2, or `dim` 3 with the same z at every used
+    /// vertex. The planar path as ever: x and y read and written, z never read or written.
+    Xy,
+    /// Another plane (x or y constant, or a tilted plane): the planar path in this frame, the
+    /// 3D coordinates of moved vertices written back onto the plane.
+    Frame(PlanarFrame),
+    /// Not planar: a mesh on a curved surface, for the surface optimizer.
+    Curved,
+}
+
+/// Which [`Plane`] the caller's `dim` 3 mesh lies in. `Xy` whenever a check of `coords` fails
+/// (so that the planar path, which checks them first, reports the failure exactly as before)
+/// and for a z that is the same (equal, `-0.0` and `0.0` included, or bit-identical, so a z
+/// left as one NaN pattern stays the planar path's, whose z is never read) at every vertex, as
+/// it always was; otherwise the rule decides on the vertices used by a face. `Curved` when the
+/// faces' checks fail or a coordinate is not finite: the surface path reports that as it did.
 ///
 /// # Safety
 /// As [`read_mesh`].
-pub(super) unsafe fn z_varies(coords: *const f64, dim: u32, vertex_count: usize) -> bool {
+pub(super) unsafe fn plane_of(
+    coords: *const f64,
+    dim: u32,
+    vertex_count: usize,
+    quads: *const u32,
+    quad_count: usize,
+) -> Result<Plane, FfiError> {
     if dim != 3 || vertex_count < 2 || check_u32_count(vertex_count, "vertex_count").is_err() {
-        return false;
+        return Ok(Plane::Xy);
     }
-    let Ok(len) = checked_count(vertex_count, 3, "vertex_count * dim") else { return false };
+    let Ok(len) = checked_count(vertex_count, 3, "vertex_count * dim") else { return Ok(Plane::Xy) };
     // SAFETY: the caller guarantees `coords` holds `vertex_count * 3` doubles.
-    let Ok(flat) = (unsafe { checked_slice(coords, len, "coords") }) else { return false };
+    let Ok(flat) = (unsafe { checked_slice(coords, len, "coords") }) else { return Ok(Plane::Xy) };
+    if same_z(flat) {
+        return Ok(Plane::Xy);
+    }
+    let faces = match check_u32_count(quad_count, "quad_count")
+        .and_then(|()| checked_count(quad_count, 4, "quad_count * 4"))
+    {
+        // SAFETY: the caller guarantees `quads` holds `4 * quad_count` indices.
+        Ok(len) => match unsafe { checked_slice(quads, len, "quads") } {
+            Ok(faces) => faces,
+            Err(_) => return Ok(Plane::Curved),
+        },
+        Err(_) => return Ok(Plane::Curved),
+    };
+    // SAFETY: `faces` holds `4 * quad_count` indices, and `[u32; 4]` has the size of four of
+    // them and their alignment.
+    let faces = unsafe { std::slice::from_raw_parts(faces.as_ptr().cast::<[u32; 4]>(), quad_count) };
+    plane_by_rule(flat, faces)
+}
+
+/// [`plane_of`] for the faces of a validated mesh (a reusable optimizer's).
+///
+/// # Safety
+/// As [`read_points`].
+pub(super) unsafe fn plane_of_faces(
+    coords: *const f64,
+    dim: u32,
+    vertex_count: usize,
+    faces: &[[u32; 4]],
+) -> Result<Plane, FfiError> {
+    if dim != 3 || vertex_count < 2 || check_u32_count(vertex_count, "vertex_count").is_err() {
+        return Ok(Plane::Xy);
+    }
+    let Ok(len) = checked_count(vertex_count, 3, "vertex_count * dim") else { return Ok(Plane::Xy) };
+    // SAFETY: the caller guarantees `coords` holds `vertex_count * 3` doubles.
+    let Ok(flat) = (unsafe { checked_slice(coords, len, "coords") }) else { return Ok(Plane::Xy) };
+    if same_z(flat) {
+        return Ok(Plane::Xy);
+    }
+    plane_by_rule(flat, faces)
+}
+
+/// A checked read-only view of the caller's `vertex_count` points of three doubles.
+///
+/// # Safety
+/// `coords` must be NULL with `vertex_count == 0`, or point to `vertex_count * 3` doubles that
+/// stay valid and unwritten for the returned lifetime.
+pub(super) unsafe fn read_points_3d_flat<'a>(
+    coords: *const f64,
+    vertex_count: usize,
+) -> Result<&'a [[f64; 3]], FfiError> {
+    check_u32_count(vertex_count, "vertex_count")?;
+    let len = checked_count(vertex_count, 3, "vertex_count * 3")?;
+    // SAFETY: the caller guarantees `coords` holds `vertex_count * 3` doubles.
+    let flat = unsafe { checked_slice(coords, len, "coords") }?;
+    // SAFETY: `[f64; 3]` has the size of three doubles and their alignment.
+    Ok(unsafe { std::slice::from_raw_parts(flat.as_ptr().cast::<[f64; 3]>(), vertex_count) })
+}
+
+/// A checked read-only view of the caller's `quad_count` faces of four indices.
+///
+/// # Safety
+/// `quads` must be NULL with `quad_count == 0`, or point to `4 * quad_count` indices that stay
+/// valid and unwritten for the returned lifetime.
+pub(super) unsafe fn read_quads_checked<'a>(
+    quads: *const u32,
+    quad_count: usize,
+) -> Result<&'a [[u32; 4]], FfiError> {
+    check_u32_count(quad_count, "quad_count")?;
+    let len = checked_count(quad_count, 4, "quad_count * 4")?;
+    // SAFETY: the caller guarantees `quads` holds `4 * quad_count` indices.
+    let flat = unsafe { checked_slice(quads, len, "quads") }?;
+    // SAFETY: `[u32; 4]` has the size of four indices and their alignment.
+    Ok(unsafe { std::slice::from_raw_parts(flat.as_ptr().cast::<[u32; 4]>(), quad_count) })
+}
+
+/// Whether z (every third double) is the same at every vertex: equal or bit-identical.
+fn same_z(flat: &[f64]) -> bool {
     let z0 = flat[2];
-    flat.chunks_exact(3).any(|c| !(c[2] == z0 || c[2].to_bits() == z0.to_bits()))
+    flat.chunks_exact(3).all(|c| c[2] == z0 || c[2].to_bits() == z0.to_bits())
+}
+
+/// The library's planarity rule on the points `flat` (three doubles each) used by `faces`.
+fn plane_by_rule(flat: &[f64], faces: &[[u32; 4]]) -> Result<Plane, FfiError> {
+    let vertex_count = flat.len() / 3;
+    // SAFETY: `flat` holds `3 * vertex_count` doubles, and `[f64; 3]` has the size of three
+    // doubles and their alignment.
+    let points = unsafe { std::slice::from_raw_parts(flat.as_ptr().cast::<[f64; 3]>(), vertex_count) };
+    let used = crate::io::planar::used_vertices(vertex_count, faces)?;
+    Ok(match PlanarFrame::fit(points, Some(&used)) {
+        Ok(PlanarFrame::Axis { axis: 2, .. }) => Plane::Xy,
+        Ok(frame) => Plane::Frame(frame),
+        Err(_) => Plane::Curved,
+    })
+}
+
+/// Reads `vertex_count` points of three doubles into owned memory as their 2D coordinates in
+/// `frame`.
+///
+/// # Safety
+/// `coords` must be NULL with `vertex_count == 0`, or point to `vertex_count * 3` doubles.
+pub(super) unsafe fn read_points_in(
+    coords: *const f64,
+    vertex_count: usize,
+    frame: &PlanarFrame,
+) -> Result<Vec<DVec2>, FfiError> {
+    check_u32_count(vertex_count, "vertex_count")?;
+    let len = checked_count(vertex_count, 3, "vertex_count * dim")?;
+    // SAFETY: the caller guarantees `coords` holds `vertex_count * 3` doubles.
+    let flat = unsafe { checked_slice(coords, len, "coords") }?;
+    let mut points = try_with_capacity(vertex_count, "vertex coordinates")?;
+    points.extend(flat.chunks_exact(3).map(|c| frame.to_2d([c[0], c[1], c[2]])));
+    Ok(points)
+}
+
+/// Builds and validates a mesh from the caller's arrays (`dim` 3) in the 2D coordinates of
+/// `frame`.
+///
+/// # Safety
+/// As [`read_mesh`] with `dim` 3.
+pub(super) unsafe fn read_mesh_in(
+    coords: *const f64,
+    vertex_count: usize,
+    quads: *const u32,
+    quad_count: usize,
+    fixed: *const u8,
+    frame: &PlanarFrame,
+) -> Result<Mesh, FfiError> {
+    // The checks of every array first, as read_mesh makes them.
+    check_u32_count(vertex_count, "vertex_count")?;
+    check_u32_count(quad_count, "quad_count")?;
+    check_array(coords, checked_count(vertex_count, 3, "vertex_count * dim")?, "coords")?;
+    check_array(quads, checked_count(quad_count, 4, "quad_count * 4")?, "quads")?;
+    if !fixed.is_null() {
+        check_array(fixed, vertex_count, "fixed")?;
+    }
+    // SAFETY: forwarded from this function's contract.
+    let points = unsafe { read_points_in(coords, vertex_count, frame) }?;
+    // SAFETY: forwarded from this function's contract.
+    let quads = unsafe { read_quads(quads, quad_count) }?;
+    // SAFETY: forwarded from this function's contract.
+    let fixed = unsafe { read_fixed(fixed, vertex_count) }?;
+    Ok(Mesh::with_faces(points, quads, fixed)?)
 }
 
 /// Reads the optional marked feature edges (`2 * count` vertex indices, two per edge) into
@@ -352,6 +515,33 @@ pub(super) unsafe fn write_points_3d(coords: *mut f64, points: &[DVec3]) {
             coords.add(3 * i).write(p.x);
             coords.add(3 * i + 1).write(p.y);
             coords.add(3 * i + 2).write(p.z);
+        }
+    }
+}
+
+/// Writes the 2D `points` of a mesh in `frame` back into the caller's array of three doubles
+/// per vertex (which still holds the input): a vertex whose 2D position differs (bitwise) from
+/// its input's gets its point of the plane, every other vertex is not written. In a plane x or
+/// y = const only the two in-plane coordinates are written.
+///
+/// # Safety
+/// `coords` must be aligned and point to `points.len() * 3` readable and writable doubles.
+pub(super) unsafe fn write_points_in(coords: *mut f64, points: &[DVec2], frame: &PlanarFrame) {
+    for (i, p) in points.iter().enumerate() {
+        // SAFETY: 3 * i + 2 < points.len() * 3, inside the caller's buffer; raw reads and
+        // writes create no reference.
+        unsafe {
+            let at = coords.add(3 * i);
+            let was = frame.to_2d([at.read(), at.add(1).read(), at.add(2).read()]);
+            if was.x.to_bits() == p.x.to_bits() && was.y.to_bits() == p.y.to_bits() {
+                continue;
+            }
+            let q = frame.to_3d(*p);
+            for (c, value) in q.into_iter().enumerate() {
+                if !matches!(*frame, PlanarFrame::Axis { axis, .. } if axis == c) {
+                    at.add(c).write(value);
+                }
+            }
         }
     }
 }

@@ -6,26 +6,24 @@ use crate::mesh::Mesh;
 use crate::smooth::Optimizer;
 
 use super::boundary::{
-    boundary, boundary_or, read_mesh, read_points, require_non_null, write_points, z_varies,
+    Plane, boundary, boundary_or, plane_of, plane_of_faces, read_points, read_points_in, require_non_null,
 };
 use super::options::{QuadoptOptions, convert_options, read_options};
 use super::report::{QuadoptReport, report_of, report_size, write_report};
-use super::run::{check_memory_for, run, topology_bytes};
+use super::run::{check_memory_for, read_planar_mesh, run, topology_bytes, write_planar_points};
 use super::status::{FfiError, QuadoptStatus};
 
-/// A handle optimizes planar meshes only: `dim` 3 coordinates whose z varies are
-/// `QUADOPT_STATUS_NOT_PLANAR`.
-///
-/// # Safety
-/// As `read_mesh`: `coords` holds `vertex_count * dim` doubles.
-unsafe fn refuse_curved(coords: *const f64, dim: u32, vertex_count: usize) -> Result<(), FfiError> {
-    // SAFETY: forwarded from the caller's contract.
-    if unsafe { z_varies(coords, dim, vertex_count) } {
+/// A handle optimizes planar meshes only: a `dim` 3 mesh that is not planar (by the library's
+/// one rule, `quadopt_is_planar()`) is `QUADOPT_STATUS_NOT_PLANAR`, whatever else is wrong with
+/// it (a closed mesh on a sphere is not planar first).
+fn refuse_curved(plane: &Plane) -> Result<(), FfiError> {
+    if *plane == Plane::Curved {
         return Err(FfiError::new(
             QuadoptStatus::NotPlanar,
-            "the mesh is not planar (dim is 3 and z is not the same at every vertex); a reusable \
-             optimizer optimizes planar meshes only: optimize a mesh on a curved surface with \
-             quadopt_optimize() or quadopt_optimize_surface()",
+            "the mesh is not planar (dim is 3 and its vertices do not lie on one plane to within \
+             rounding); a reusable optimizer optimizes planar meshes only: optimize a mesh on a \
+             curved surface with quadopt_optimize_surface() (or quadopt_optimize(), which takes \
+             it there)",
         ));
     }
     Ok(())
@@ -43,10 +41,12 @@ pub struct QuadoptOptimizer {
 }
 
 /// Creates a reusable optimizer for one connectivity: validates the mesh (arrays as in
-/// `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only:
-/// `dim` 3 coordinates whose z varies are `QUADOPT_STATUS_NOT_PLANAR` (here and in
-/// `quadopt_optimizer_optimize()`; use `quadopt_optimize()` or `quadopt_optimize_surface()`
-/// for a mesh on a curved surface). The orientation and the fixed flags are taken from this
+/// `quadopt_optimize()`) and builds its topology once. A handle optimizes planar meshes only
+/// (`dim` 2, or `dim` 3 in a plane by `quadopt_is_planar()`'s rule, as `quadopt_optimize()`
+/// decides): a `dim` 3 mesh that is not planar is `QUADOPT_STATUS_NOT_PLANAR`, here (before
+/// any other check of the mesh, so a closed surface is not planar rather than closed) and in
+/// `quadopt_optimizer_optimize()`; use `quadopt_optimize_surface()` (or `quadopt_optimize()`)
+/// for a mesh on a curved surface. The orientation and the fixed flags are taken from this
 /// call. On success `*out` receives the handle (free it with
 /// `quadopt_optimizer_free()`); on error `*out` is not written.
 ///
@@ -64,10 +64,12 @@ pub unsafe extern "C" fn quadopt_optimizer_create(
 ) -> QuadoptStatus {
     boundary("quadopt_optimizer_create", || {
         require_non_null(out.cast_const(), "out")?;
+        // SAFETY: forwarded from this function's contract (plane_of reads nothing when the
+        // arguments' checks fail).
+        let plane = unsafe { plane_of(coords, dim, vertex_count, quads, quad_count) }?;
+        refuse_curved(&plane)?;
         // SAFETY: forwarded from this function's contract.
-        let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
-        // SAFETY: the arrays were checked by read_mesh.
-        unsafe { refuse_curved(coords, dim, vertex_count) }?;
+        let mesh = unsafe { read_planar_mesh(coords, dim, vertex_count, quads, quad_count, fixed, &plane) }?;
         check_memory_for(topology_bytes(&mesh), "the mesh's topology")?;
         let optimizer = Optimizer::new(&mesh);
         let handle = Box::into_raw(Box::new(QuadoptOptimizer { mesh, optimizer }));
@@ -107,16 +109,22 @@ pub unsafe extern "C" fn quadopt_optimizer_optimize(
         if vertex_count != expected {
             return Err(Error::VertexCountMismatch { expected, got: vertex_count }.into());
         }
-        // SAFETY: forwarded from this function's contract.
-        let points = unsafe { read_points(coords, dim, vertex_count) }?;
-        // SAFETY: the array was checked by read_points.
-        unsafe { refuse_curved(coords, dim, vertex_count) }?;
+        // SAFETY: forwarded from this function's contract (plane_of_faces reads nothing when
+        // the arguments' checks fail).
+        let plane = unsafe { plane_of_faces(coords, dim, vertex_count, handle.mesh.quads()) }?;
+        refuse_curved(&plane)?;
+        let points = match &plane {
+            // SAFETY: forwarded from this function's contract (a frame comes from dim 3 only).
+            Plane::Frame(frame) => unsafe { read_points_in(coords, vertex_count, frame) }?,
+            // SAFETY: forwarded from this function's contract.
+            _ => unsafe { read_points(coords, dim, vertex_count) }?,
+        };
         let mut mesh = handle.mesh.try_clone()?;
         mesh.set_points(&points)?;
         let (mesh, r) = run(Some(&handle.optimizer), mesh, &o)?;
         // SAFETY: as in quadopt_optimize.
         unsafe {
-            write_points(coords, dim as usize, mesh.points());
+            write_planar_points(coords, dim, mesh.points(), &plane);
             if let Some(bytes) = report_bytes {
                 write_report(report, report_of(&r), bytes);
             }

@@ -42,7 +42,9 @@
 //! - `run.rs`: a run on the worker pool with the C progress callback, the memory checks before
 //!   it, `quadopt_optimize` and `quadopt_quality`;
 //! - `surface.rs`: meshes on curved surfaces in 3D: `quadopt_optimize_surface` and the surface
-//!   run `quadopt_optimize` takes for a `dim` 3 mesh whose z varies;
+//!   run `quadopt_optimize` takes for a `dim` 3 mesh that is not planar;
+//! - `plane.rs`: the library's one planarity rule for C and C++ callers: `quadopt_is_planar`
+//!   (the `dim` 3 entry points decide with the same rule, `boundary.rs`'s `plane_of`);
 //! - `handle.rs`: the reusable `QuadoptOptimizer` and its functions;
 //! - `version.rs`: the version constants and functions;
 //! - `quiet.rs`: the panic hook that keeps caught panics off the host's stderr.
@@ -78,6 +80,8 @@ mod run;
 
 mod surface;
 
+mod plane;
+
 mod handle;
 
 mod version;
@@ -95,6 +99,7 @@ pub use options::{
     QuadoptBoundary, QuadoptEffort, QuadoptMethod, QuadoptOptions, QuadoptProgress, QuadoptProgressFn,
     QuadoptStopRule, quadopt_options_init,
 };
+pub use plane::{QuadoptPlanarity, quadopt_is_planar};
 pub use report::{QuadoptFaceKindQuality, QuadoptQuality, QuadoptReport, quadopt_report_init};
 pub use run::{quadopt_optimize, quadopt_quality, run_bytes, topology_bytes};
 pub use status::{QuadoptStatus, quadopt_last_error, quadopt_status_string};

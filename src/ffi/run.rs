@@ -9,9 +9,13 @@ use crate::pool;
 use crate::quality::QualityStats;
 use crate::quiet_threads;
 use crate::smooth::{Optimizer, Progress, Report};
+use glam::DVec2;
 use std::mem::size_of;
 
-use super::boundary::{boundary, check_bytes, read_mesh, require_non_null, write_points, z_varies};
+use super::boundary::{
+    Plane, boundary, check_bytes, plane_of, read_mesh, read_mesh_in, require_non_null, write_points,
+    write_points_in,
+};
 use super::options::{QuadoptOptions, QuadoptProgress, convert_options, read_options};
 use super::report::{QuadoptQuality, QuadoptReport, quality_of, report_of, report_size, write_report};
 use super::status::{FfiError, QuadoptStatus};
@@ -135,16 +139,57 @@ pub(super) fn run(
     Ok((mesh, report))
 }
 
+/// Builds and validates the 2D mesh of a planar input: x and y (`Plane::Xy`), or the 2D
+/// coordinates in the input's plane (`Plane::Frame`, `dim` 3).
+///
+/// # Safety
+/// As [`read_mesh`]; `plane` is the input's, from [`plane_of`], and not `Curved`.
+pub(super) unsafe fn read_planar_mesh(
+    coords: *const f64,
+    dim: u32,
+    vertex_count: usize,
+    quads: *const u32,
+    quad_count: usize,
+    fixed: *const u8,
+    plane: &Plane,
+) -> Result<Mesh, FfiError> {
+    match plane {
+        // SAFETY: forwarded from this function's contract (a frame comes from dim 3 only).
+        Plane::Frame(frame) => unsafe { read_mesh_in(coords, vertex_count, quads, quad_count, fixed, frame) },
+        // SAFETY: forwarded from this function's contract.
+        _ => unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) },
+    }
+}
+
+/// Writes the optimized 2D `points` of a planar input back into the caller's coordinates: x and
+/// y (`Plane::Xy`, z never written), or the moved vertices' points of the input's plane.
+///
+/// # Safety
+/// `coords` must be aligned and hold `points.len() * dim` doubles, the input still (for a
+/// frame, which compares against it); `plane` as in [`read_planar_mesh`].
+pub(super) unsafe fn write_planar_points(coords: *mut f64, dim: u32, points: &[DVec2], plane: &Plane) {
+    match plane {
+        // SAFETY: forwarded from this function's contract (a frame comes from dim 3 only).
+        Plane::Frame(frame) => unsafe { write_points_in(coords, points, frame) },
+        // SAFETY: forwarded from this function's contract.
+        _ => unsafe { write_points(coords, dim as usize, points) },
+    }
+}
+
 /// Optimizes a mesh in place: moves the vertices to raise the faces' scaled Jacobians, keeping
 /// connectivity, corners, fixed vertices and the boundary. On any error, cancellation
 /// included, neither `coords` nor `report` is written.
 ///
-/// A planar mesh (`dim` 2, or `dim` 3 with the same z at every vertex: equal, or the same
-/// bits) is optimized in the plane: x and y of each vertex move and z is never written. A
-/// `dim` 3 mesh whose z varies lies on a curved surface: it is optimized on that surface in 3D
-/// as `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a
-/// closed surface accepted; the report's `surface` is 1). A mesh in a tilted plane is such a
-/// mesh too: to optimize it in its plane, give its 2D coordinates in that plane.
+/// A planar mesh is optimized in its plane: `dim` 2, or `dim` 3 with the same z at every vertex
+/// used by a face (x and y of each vertex move and z is never written). A `dim` 3 mesh is
+/// planar when the vertices used by its faces lie on one plane to within rounding (the
+/// library's one planarity rule, the command-line tool's and the C++ adapters' too: see
+/// `quadopt_is_planar()`); in a plane x or y = const, or a tilted plane, it is optimized in
+/// an orthonormal frame of that plane and each moved vertex is written back as its point of
+/// the plane (vertices that do not move are not written). Any other `dim` 3 mesh lies on a
+/// curved surface, however slightly curved: it is optimized on that surface in 3D as
+/// `quadopt_optimize_surface()` does with no marked feature edge (x, y and z written; a closed
+/// surface accepted; the report's `surface` is 1), never flattened.
 ///
 /// - `coords`: `vertex_count * dim` doubles, read and written; NULL only if `vertex_count` is 0.
 /// - `dim`: 2 or 3 doubles per vertex.
@@ -175,9 +220,10 @@ pub unsafe extern "C" fn quadopt_optimize(
     report: *mut QuadoptReport,
 ) -> QuadoptStatus {
     boundary("quadopt_optimize", || {
-        // SAFETY: forwarded from this function's contract (z_varies reads nothing when the
+        // SAFETY: forwarded from this function's contract (plane_of reads nothing when the
         // arguments' checks fail).
-        if unsafe { z_varies(coords, dim, vertex_count) } {
+        let plane = unsafe { plane_of(coords, dim, vertex_count, quads, quad_count) }?;
+        if plane == Plane::Curved {
             // SAFETY: `dim` is 3: the contract of quadopt_optimize_surface with no marked edge.
             return unsafe {
                 optimize_surface(
@@ -200,12 +246,12 @@ pub unsafe extern "C" fn quadopt_optimize(
         let o = unsafe { read_options(options) }?;
         convert_options(&o)?;
         // SAFETY: forwarded from this function's contract.
-        let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, fixed) }?;
+        let mesh = unsafe { read_planar_mesh(coords, dim, vertex_count, quads, quad_count, fixed, &plane) }?;
         let (mesh, r) = run(None, mesh, &o)?;
-        // SAFETY: `coords` held `vertex_count * dim` doubles (checked by read_mesh), and the
-        // report size was checked against the caller's declaration.
+        // SAFETY: `coords` held `vertex_count * dim` doubles (checked by read_planar_mesh), and
+        // the report size was checked against the caller's declaration.
         unsafe {
-            write_points(coords, dim as usize, mesh.points());
+            write_planar_points(coords, dim, mesh.points(), &plane);
             if let Some(bytes) = report_bytes {
                 write_report(report, report_of(&r), bytes);
             }
@@ -220,10 +266,11 @@ pub unsafe extern "C" fn quadopt_optimize(
 /// `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). Quality is measured
 /// against the mesh's consistent orientation, so a mesh given clockwise scores like its mirror
 /// image. Arrays (triangles included) as in `quadopt_optimize()`. Nothing is written on error.
-/// A `dim` 3 mesh whose z varies lies on a curved surface: each face's value is then the
-/// signed measure a surface run reports as its `input` (each corner against the normal of the
-/// mesh's surface there, so a face folded over is negative; with the default feature angle and
-/// no marked edge), and a closed mesh is accepted.
+/// A `dim` 3 mesh is measured where `quadopt_optimize()` would optimize it: a planar one in its
+/// plane, and one on a curved surface (not planar by `quadopt_is_planar()`'s rule) on that
+/// surface: each face's value is then the signed measure a surface run reports as its `input`
+/// (each corner against the normal of the mesh's surface there, so a face folded over is
+/// negative; with the default feature angle and no marked edge), and a closed mesh is accepted.
 ///
 /// # Safety
 /// Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
@@ -251,14 +298,16 @@ pub unsafe extern "C" fn quadopt_quality(
             require_non_null(per_quad.cast_const(), "per_quad")?;
             check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
         }
-        // SAFETY: forwarded from this function's contract (z_varies reads nothing when the
+        // SAFETY: forwarded from this function's contract (plane_of reads nothing when the
         // arguments' checks fail).
-        let values = if unsafe { z_varies(coords, dim, vertex_count) } {
+        let plane = unsafe { plane_of(coords, dim, vertex_count, quads, quad_count) }?;
+        let values = if plane == Plane::Curved {
             // SAFETY: `dim` is 3, as surface_quality_values reads.
             unsafe { surface_quality_values(coords, vertex_count, quads, quad_count) }?
         } else {
             // SAFETY: forwarded from this function's contract.
-            let mesh = unsafe { read_mesh(coords, dim, vertex_count, quads, quad_count, std::ptr::null()) }?;
+            let mesh =
+                unsafe { read_planar_mesh(coords, dim, vertex_count, quads, quad_count, null(), &plane) }?;
             mesh.try_quality_values()?
         };
         let stats = quality_of(&QualityStats::from_values(&values));

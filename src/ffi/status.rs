@@ -44,10 +44,12 @@ pub enum QuadoptStatus {
     Cancelled = 11,
     /// An internal error (a bug) was caught at the API boundary.
     Panic = 12,
-    /// The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates whose
-    /// z varies given to a reusable optimizer (`quadopt_optimizer_create()`,
-    /// `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on its surface
-    /// instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses it too.
+    /// The mesh is not planar where only a planar mesh is accepted: `dim` 3 coordinates that do
+    /// not lie on one plane to within rounding (`quadopt_is_planar()`'s rule) given to a reusable
+    /// optimizer (`quadopt_optimizer_create()`, where it comes before any other check of the
+    /// mesh, and `quadopt_optimizer_optimize()`). `quadopt_optimize()` optimizes such a mesh on
+    /// its surface instead (as `quadopt_optimize_surface()`); the C++ adapters' `NotPlanar` uses
+    /// it too.
     NotPlanar = 13,
     /// Not enough memory (or threads) for this mesh: an allocation that grows with the input
     /// failed, the memory the optimizer needs at its peak was not available when checked before

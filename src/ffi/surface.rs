@@ -1,5 +1,6 @@
 //! Meshes on curved surfaces in 3D (issue 33): [`quadopt_optimize_surface`], and the surface
-//! run that `quadopt_optimize` also takes for a `dim` 3 mesh whose z varies. The run is the
+//! run that `quadopt_optimize` also takes for a `dim` 3 mesh that is not planar (the library's
+//! one planarity rule, `quadopt_is_planar`). The run is the
 //! crate's [`SurfaceOptimizer`] on the library's worker threads, with the C progress callback
 //! on the calling thread, as in the plane (`run.rs`).
 
@@ -174,8 +175,8 @@ pub unsafe extern "C" fn quadopt_optimize_surface(
 
 /// The signed scaled Jacobian of every face of a mesh on a curved surface, as the optimizer
 /// measures its input (each corner against the normal of the mesh's own surface there, with
-/// the default feature angle and no marked edge): `quadopt_quality()` for a `dim` 3 mesh whose
-/// z varies. Computed on the library's worker threads.
+/// the default feature angle and no marked edge): `quadopt_quality()` for a `dim` 3 mesh that
+/// is not planar. Computed on the library's worker threads.
 ///
 /// # Safety
 /// As `read_mesh` with `dim` 3.

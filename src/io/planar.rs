@@ -1,18 +1,26 @@
-//! Planar meshes in 3D space: fitting the plane, rejecting curved meshes, and mapping between
-//! the file's 3D coordinates and the 2D coordinates the optimizer works in.
+//! Planar meshes in 3D space: the one planarity rule of every interface (the CLI, the C ABI
+//! and its C++ adapters), fitting the plane, and mapping between the file's 3D coordinates and
+//! the 2D coordinates the optimizer works in.
 //!
 //! - If one coordinate is the same for every vertex used by a face (the plane z = c, the usual
-//!   case, or x = c, y = c), the 2D coordinates are the other two coordinates, unchanged, and
-//!   the constant one is kept: nothing is rounded.
+//!   case, or x = c, y = c), the mesh is planar, the 2D coordinates are the other two
+//!   coordinates, unchanged, and the constant one is kept: nothing is rounded.
 //! - Otherwise the plane is fitted by least squares (centroid and the covariance matrix's
-//!   eigenvector of the smallest eigenvalue, by Jacobi rotations) and the 2D coordinates are
-//!   taken in an orthonormal frame of that plane.
+//!   eigenvector of the smallest eigenvalue, by Jacobi rotations). The mesh is planar when every
+//!   used vertex lies on that plane to within rounding: no farther than
+//!   [`PLANARITY_TOLERANCE`] (1e-12) times the bounding-box diagonal of the used vertices, plus
+//!   [`ROUNDING_ULPS`] units in the last place of their largest coordinate (so a mesh far from
+//!   the origin, whose coordinates carry less of its own size, is judged by what its
+//!   coordinates can hold). An exactly planar mesh in a tilted plane, its coordinates rounded
+//!   to doubles, is planar; its 2D coordinates are taken in an orthonormal frame of the plane.
+//! - Anything farther is a mesh on a curved surface: [`Error::NotPlanar`] names the farthest
+//!   vertex, and every interface optimizes such a mesh on its surface in 3D, never flattened
+//!   (a sheet whose z wobbles by 1e-4 of its size is a surface; so is a tilted plane written
+//!   with 6 significant digits, as `float` VTK files often are: Mesquite's `quad_2_not_xy`
+//!   deviates by 1.0e-7 of its diagonal).
 //!
-//! A mesh whose used vertices lie farther than [`PLANARITY_TOLERANCE`] times the bounding-box
-//! diagonal from the fitted plane is rejected with [`Error::NotPlanar`]. The tolerance (1e-5)
-//! accepts coordinates stored with 6 significant digits (as `float` VTK files often are:
-//! Mesquite's tilted `quad_2_not_xy` deviates by 1.0e-7 of its diagonal) and rejects every
-//! curved surface of practical interest (a sphere cap deviates by about its sagitta).
+//! [`PlanarFrame::fit`] is that rule: the CLI (through [`PlanarMesh::new`]), the C ABI's
+//! `dim` 3 entry points and `quadopt_is_planar` (which the C++ adapters call) all decide with it.
 //!
 //! Writing back ([`PlanarMesh::write_back`]) replaces the 3D coordinates of the vertices whose
 //! 2D position changed (compared bitwise) and nothing else, so vertices that did not move
@@ -25,8 +33,28 @@ use crate::power_of_two::{binary_exponent, scale_by_power_of_two};
 use glam::{DVec2, DVec3};
 
 /// Largest allowed distance from the fitted plane, relative to the bounding-box diagonal of the
-/// vertices used by faces.
-pub const PLANARITY_TOLERANCE: f64 = 1e-5;
+/// vertices used by faces: rounding only (see the module docs).
+pub const PLANARITY_TOLERANCE: f64 = 1e-12;
+
+/// Units in the last place of the largest coordinate (in magnitude) of the used vertices that
+/// the distance from the fitted plane may also take: the rounding of coordinates far from the
+/// origin, and of the fit there.
+pub const ROUNDING_ULPS: f64 = 16.0;
+
+/// The used flag of each of `vertex_count` vertices: whether a face has it (indices out of
+/// range and `face::NO_VERTEX` are ignored: the mesh's validation reports them), or
+/// [`Error::OutOfMemory`].
+pub(crate) fn used_vertices(vertex_count: usize, faces: &[[u32; 4]]) -> Result<Vec<bool>, Error> {
+    let mut used = crate::alloc::try_filled(vertex_count, false, "used-vertex flags")?;
+    for f in faces {
+        for &v in crate::face::vertices(f) {
+            if let Some(u) = used.get_mut(v as usize) {
+                *u = true;
+            }
+        }
+    }
+    Ok(used)
+}
 
 /// The plane of a mesh and its 2D coordinate frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,28 +83,31 @@ pub enum PlanarFrame {
 
 impl PlanarFrame {
     /// Fits the plane of the points whose `used` flag is set (all points when `used` is
-    /// `None`); fails with [`Error::NotPlanar`] naming the farthest vertex when they are not
-    /// planar, and [`Error::NonFiniteCoordinate`] on NaN or infinite coordinates.
+    /// `None`) by the planarity rule of every interface (see the module docs); fails with
+    /// [`Error::NotPlanar`] naming the farthest vertex when they are not planar, and
+    /// [`Error::NonFiniteCoordinate`] on NaN or infinite coordinates. Allocates nothing.
     pub fn fit(points: &[[f64; 3]], used: Option<&[bool]>) -> Result<PlanarFrame, Error> {
         if let Some(v) = points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
             return Err(Error::NonFiniteCoordinate { vertex: v });
         }
-        let is_used = |i: usize| used.is_none_or(|u| u.get(i).copied().unwrap_or(false));
-        let idx: Vec<usize> = (0..points.len()).filter(|&i| is_used(i)).collect();
-        let Some(&first) = idx.first() else {
+        let is_used = |i: &usize| used.is_none_or(|u| u.get(*i).copied().unwrap_or(false));
+        let idx = || (0..points.len()).filter(is_used);
+        let Some(first) = idx().next() else {
             return Ok(PlanarFrame::Axis { axis: 2, value: 0.0 });
         };
         for axis in [2, 0, 1] {
             let value = points[first][axis];
-            if idx.iter().all(|&i| points[i][axis] == value) {
+            if idx().all(|i| points[i][axis] == value) {
                 return Ok(PlanarFrame::Axis { axis, value });
             }
         }
         let p = |i: usize| DVec3::from_array(points[i]);
         let (mut lo, mut hi) = (p(first), p(first));
-        for &i in &idx {
+        let mut count = 0usize;
+        for i in idx() {
             lo = lo.min(p(i));
             hi = hi.max(p(i));
+            count += 1;
         }
         // Sums and products on coordinates scaled by 2^-e (exact), so that nothing overflows
         // or underflows at any scale; every comparison is between quantities scaled alike.
@@ -90,12 +121,12 @@ impl PlanarFrame {
             )
         };
         let mut sum = DVec3::ZERO;
-        for &i in &idx {
+        for i in idx() {
             sum += scaled(p(i), -e);
         }
-        let origin = scaled(sum / idx.len() as f64, e);
+        let origin = scaled(sum / count as f64, e);
         let mut cov = [[0.0; 3]; 3];
-        for &i in &idx {
+        for i in idx() {
             let d = scaled(p(i) - origin, -e).to_array();
             for r in 0..3 {
                 for c in 0..3 {
@@ -104,9 +135,12 @@ impl PlanarFrame {
             }
         }
         let normal = smallest_eigenvector(cov);
-        let tolerance = PLANARITY_TOLERANCE * scaled(hi - lo, -e).length();
+        // Rounding: the diagonal's share, and the last places of the largest coordinate.
+        let largest = scaled(lo.abs().max(hi.abs()), -e).max_element();
+        let tolerance =
+            PLANARITY_TOLERANCE * scaled(hi - lo, -e).length() + ROUNDING_ULPS * f64::EPSILON * largest;
         let (mut worst, mut distance) = (first, 0.0);
-        for &i in &idx {
+        for i in idx() {
             let d = scaled(p(i) - origin, -e).dot(normal).abs();
             if d > distance {
                 (worst, distance) = (i, d);
@@ -240,12 +274,7 @@ impl PlanarMesh {
     /// triangles included ([`Mesh::with_faces`]).
     pub fn new(data: &MeshData) -> Result<PlanarMesh, IoError> {
         data.check()?;
-        let mut used = vec![false; data.points.len()];
-        for q in &data.quads {
-            for &v in crate::face::vertices(q) {
-                used[v as usize] = true;
-            }
-        }
+        let used = used_vertices(data.points.len(), &data.quads)?;
         let frame = PlanarFrame::fit(&data.points, Some(&used))?;
         let points: Vec<DVec2> = data.points.iter().map(|&p| frame.to_2d(p)).collect();
         // Triangles are kept (a mesh without any is the one `Mesh::new` builds).

@@ -389,6 +389,33 @@ const _: () = {
         "Offset of field: QuadoptReport::patches",
     ][::std::mem::offset_of!(QuadoptReport, patches) - 456usize];
 };
+#[repr(C)]
+#[derive(Debug, Copy, Clone)]
+pub struct QuadoptPlanarity {
+    pub planar: u32,
+    pub vertex: usize,
+    pub distance: f64,
+    pub tolerance: f64,
+}
+#[allow(clippy::unnecessary_operation, clippy::identity_op)]
+const _: () = {
+    ["Size of QuadoptPlanarity"][::std::mem::size_of::<QuadoptPlanarity>() - 32usize];
+    [
+        "Alignment of QuadoptPlanarity",
+    ][::std::mem::align_of::<QuadoptPlanarity>() - 8usize];
+    [
+        "Offset of field: QuadoptPlanarity::planar",
+    ][::std::mem::offset_of!(QuadoptPlanarity, planar) - 0usize];
+    [
+        "Offset of field: QuadoptPlanarity::vertex",
+    ][::std::mem::offset_of!(QuadoptPlanarity, vertex) - 8usize];
+    [
+        "Offset of field: QuadoptPlanarity::distance",
+    ][::std::mem::offset_of!(QuadoptPlanarity, distance) - 16usize];
+    [
+        "Offset of field: QuadoptPlanarity::tolerance",
+    ][::std::mem::offset_of!(QuadoptPlanarity, tolerance) - 24usize];
+};
 unsafe extern "C" {
     pub fn quadopt_status_string(status: i32) -> *const ::std::os::raw::c_char;
 }
@@ -439,6 +466,15 @@ unsafe extern "C" {
         feature_edge_count: usize,
         options: *const QuadoptOptions,
         report: *mut QuadoptReport,
+    ) -> QuadoptStatus;
+}
+unsafe extern "C" {
+    pub fn quadopt_is_planar(
+        coords: *const f64,
+        vertex_count: usize,
+        quads: *const u32,
+        quad_count: usize,
+        out: *mut QuadoptPlanarity,
     ) -> QuadoptStatus;
 }
 unsafe extern "C" {

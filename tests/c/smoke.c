@@ -229,6 +229,26 @@ int main(void) {
         CHECK(memcmp(coords, before, sizeof coords) == 0);
     }
 
+    /* A closed curved mesh (a cube, one corner pushed out) given to a reusable handle: not
+       planar (a handle is planar-only), pointing at quadopt_optimize_surface(); not "closed". */
+    {
+        const double cube[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1.3, 1.3, 1.3, 0, 1, 1};
+        const uint32_t sides[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+        QuadoptOptimizer *h = NULL;
+        QuadoptPlanarity planarity;
+        CHECK(quadopt_optimizer_create(cube, 3, 8, sides, 6, NULL, &h) == QUADOPT_STATUS_NOT_PLANAR);
+        CHECK(h == NULL && strstr(quadopt_last_error(), "quadopt_optimize_surface()") != NULL);
+        CHECK(quadopt_is_planar(cube, 8, sides, 6, &planarity) == QUADOPT_STATUS_OK);
+        CHECK(planarity.planar == 0 && planarity.distance > planarity.tolerance);
+        /* The patch in the tilted plane z = 0.5 x + 0.25 y is planar. */
+        patch(coords);
+        for (v = 0; v < 9; v++) {
+            coords[3 * v + 2] = 0.5 * coords[3 * v] + 0.25 * coords[3 * v + 1];
+        }
+        CHECK(quadopt_is_planar(coords, 9, QUADS, 4, &planarity) == QUADOPT_STATUS_OK);
+        CHECK(planarity.planar == 1);
+    }
+
     if (failures == 0) {
         printf("ok\n");
     } else {

@@ -18,7 +18,8 @@ use std::path::PathBuf;
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Number of threads (default: one per core); results are identical on any number.
+    /// Number of threads (default: one per core); results are identical on any number. At most
+    /// four per core or 16, whichever is more (a larger N gets that many).
     #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
     pub threads: Option<usize>,
     /// Reader for .obj and .off: auto (quadopt's) or openmesh (.ply and .om always use OpenMesh).

@@ -45,8 +45,10 @@ fn main() -> ExitCode {
     }
     #[cfg(unix)]
     remove_temporary_files_on_signal();
+    cap_global_pool();
     let result = match cli.threads {
-        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+        // Capped as quadopt's own pool is: thousands of threads only exhaust the address space.
+        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.min(quadopt::max_threads())).build() {
             Ok(pool) => pool.install(|| dispatch(cli.command)),
             Err(e) => Err(Fail::Other(format!("cannot start {n} threads: {e}"))),
         },
@@ -55,6 +57,17 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(fail) => fail.exit(),
+    }
+}
+
+/// rayon's global pool, which a few measures use on large meshes outside a run, reads
+/// `RAYON_NUM_THREADS` as quadopt's pool does: a count above [`quadopt::max_threads`] is capped
+/// there too, so that an absurd one never starts thousands of threads.
+fn cap_global_pool() {
+    let requested = std::env::var("RAYON_NUM_THREADS").ok().and_then(|s| s.trim().parse::<usize>().ok());
+    if requested.is_some_and(|n| n > quadopt::max_threads()) {
+        // An error means the global pool exists already: nothing to cap then.
+        let _ = rayon::ThreadPoolBuilder::new().num_threads(quadopt::max_threads()).build_global();
     }
 }
 

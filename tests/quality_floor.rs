@@ -72,7 +72,9 @@ const DOCUMENTED_COST: &[(&str, usize, f64, f64)] = &[
 /// 0.004: recorded here as a documented cost of the faster default (README, "Stopping rule").
 #[rustfmt::skip]
 const SQUASHED_FLOOR: &[(&str, f64, usize, f64, f64)] = &[
-    ("hard: graded anisotropic", 3.0e-5, 0, 0.029291, 0.468441),
+    // The per-quad guarantee (issue 42) keeps 6 inversions whose removal lowered valid
+    // quads below their own values (all under the floor): a documented cost.
+    ("hard: graded anisotropic", 3.0e-5, 6, -0.149900, 0.0),
     ("mesquite: untangled/shashkov_quad.vtk", 2.2e-6, 0, 0.054205, 0.722514),
 ];
 

@@ -898,6 +898,16 @@ static void test_surface(void) {
   memcpy(again, before, sizeof before);
   CHECK_STATUS(quadopt_optimize(again, 3, CYL_N, faces, CYL_F, fixed, NULL, &r2), QUADOPT_STATUS_OK);
   CHECK(r2.surface == 1 && memcmp(again, xyz, sizeof xyz) == 0);
+  /* The curve tolerance holds on a surface: with 0, no new edge along a curve leaves it, and
+   * the report's boundary deviation measures the curves' new edges. */
+  {
+    QuadoptOptions o = quadopt_options_init();
+    o.max_boundary_deviation = 0;
+    memcpy(xyz, before, sizeof before);
+    CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, NULL, 0, &o, &r), QUADOPT_STATUS_OK);
+    CHECK(r.max_boundary_deviation < 1e-12 && r.max_boundary_deviation_relative < 1e-12);
+    CHECK(r.output.min >= r.input.min && r.output.inverted <= r.input.inverted);
+  }
   /* A marked line cuts the surface into two patches; its vertices stay on it. */
   memcpy(xyz, before, sizeof before);
   CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, marked, 4, NULL, &r), QUADOPT_STATUS_OK);

@@ -373,8 +373,9 @@ typedef struct QuadoptOptions {
     double guard_floor;
     /**
      * Largest allowed distance between a new boundary edge and the original boundary it
-     * replaces, relative to that edge's length; any negative value means unlimited (default
-     * -1). NaN is an invalid option.
+     * replaces, relative to that edge's length; on a curved surface, of every new edge along
+     * a feature curve (the boundary, sharp and marked edges) from the curve. Any negative
+     * value means unlimited (default -1). NaN is an invalid option.
      */
     double max_boundary_deviation;
     /**
@@ -487,7 +488,9 @@ typedef struct QuadoptFaceKindQuality {
  * 3D one; `corners` counts the feature corners (never moved); `converged` is 1 when the sweeps
  * stopped before their cap; `initial_energy`, `final_energy` and `hausdorff` (and its
  * relative value) are NaN (not computed on a surface); `max_boundary_deviation` (and its
- * relative value) equals `max_feature_distance`; the three `loops_*` counts are 0.
+ * relative value) is the largest distance of a new edge along a feature curve (the boundary,
+ * a sharp or a marked edge) from the stretch of the curve it replaces, the measure
+ * `max_boundary_deviation` in the options bounds; the three `loops_*` counts are 0.
  */
 typedef struct QuadoptReport {
     /**

@@ -4,7 +4,7 @@
 //! quality measure to bring a quad's corners into [1, 2) before it computes anything, so that
 //! no value depends on the scale a mesh is given at.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 /// `2^e` for `e` in the normal exponent range [-1022, 1023].
 #[inline]
@@ -47,6 +47,25 @@ pub fn unit_exponent(q: &[DVec2]) -> i32 {
 #[inline]
 pub fn scale_point(p: DVec2, e: i32) -> DVec2 {
     DVec2::new(scale_by_power_of_two(p.x, e), scale_by_power_of_two(p.y, e))
+}
+
+/// `p * 2^e`, component-wise (see [`scale_by_power_of_two`]).
+#[inline]
+pub fn scale_point3(p: DVec3, e: i32) -> DVec3 {
+    DVec3::new(scale_by_power_of_two(p.x, e), scale_by_power_of_two(p.y, e), scale_by_power_of_two(p.z, e))
+}
+
+/// The exponent `e` that scales the bounding box of `points` by `2^-e` so its larger
+/// half-extent lies in [0.5, 1) (0 for no point or all points equal). The half-extents are
+/// computed halved first, so that nothing overflows at any finite coordinate.
+pub fn extent_exponent3(points: impl IntoIterator<Item = DVec3>) -> i32 {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let half = (hi * 0.5 - lo * 0.5).max_element();
+    if half > 0.0 && half.is_finite() { binary_exponent(half) + 1 } else { 0 }
 }
 
 #[cfg(test)]

@@ -135,8 +135,9 @@ pub struct QuadoptOptions {
     /// Floor of the guarded moves, in (0, 1] (default 0.05).
     pub guard_floor: f64,
     /// Largest allowed distance between a new boundary edge and the original boundary it
-    /// replaces, relative to that edge's length; any negative value means unlimited (default
-    /// -1). NaN is an invalid option.
+    /// replaces, relative to that edge's length; on a curved surface, of every new edge along
+    /// a feature curve (the boundary, sharp and marked edges) from the curve. Any negative
+    /// value means unlimited (default -1). NaN is an invalid option.
     pub max_boundary_deviation: f64,
     /// Nonzero: compare `tau` with the absolute energy change, as the paper does (default 0).
     pub tau_absolute: u8,

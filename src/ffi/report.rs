@@ -55,7 +55,9 @@ pub struct QuadoptFaceKindQuality {
 /// 3D one; `corners` counts the feature corners (never moved); `converged` is 1 when the sweeps
 /// stopped before their cap; `initial_energy`, `final_energy` and `hausdorff` (and its
 /// relative value) are NaN (not computed on a surface); `max_boundary_deviation` (and its
-/// relative value) equals `max_feature_distance`; the three `loops_*` counts are 0.
+/// relative value) is the largest distance of a new edge along a feature curve (the boundary,
+/// a sharp or a marked edge) from the stretch of the curve it replaces, the measure
+/// `max_boundary_deviation` in the options bounds; the three `loops_*` counts are 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct QuadoptReport {
@@ -289,9 +291,9 @@ pub(super) fn surface_report_of(r: &SurfaceReport, sweep_cap: usize, reoriented:
         initial_energy: f64::NAN,
         final_energy: f64::NAN,
         seconds: r.seconds,
-        max_boundary_deviation: f.max_feature_distance,
+        max_boundary_deviation: f.max_curve_deviation,
         hausdorff: f64::NAN,
-        max_boundary_deviation_relative: f.max_feature_distance_relative(),
+        max_boundary_deviation_relative: f.max_curve_deviation_relative(),
         hausdorff_relative: f64::NAN,
         loops_slide: 0,
         loops_snap: 0,

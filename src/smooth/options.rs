@@ -241,8 +241,9 @@ pub struct Options {
     /// Default: true.
     pub keep_best: bool,
     /// Largest allowed distance between a new boundary edge and the stretch of the original
-    /// boundary it replaces, relative to that edge's length (`None`: unlimited). Default:
-    /// `None`.
+    /// boundary it replaces, relative to that edge's length (`None`: unlimited). On a curved
+    /// surface, every edge along a feature curve (the boundary, sharp and marked edges) keeps
+    /// it. Default: `None`.
     pub max_boundary_deviation: Option<f64>,
     /// After the sweeps, the max-min stage (`src/smooth/maxmin/`): the vertices of the worst
     /// quads move to maximize their star's minimum scaled Jacobian, so the global minimum

@@ -118,6 +118,19 @@ impl SurfaceMesh {
         if let Some(v) = points.iter().position(|p| !p.is_finite()) {
             return Err(Error::NonFiniteCoordinate { vertex: v });
         }
+        // The orientation's volume (a cube of lengths) and the normals (squares) computed on
+        // coordinates scaled by a power of two into the unit box: nothing over- or underflows at
+        // any scale, and a mesh scaled by a power of two gets the same bits.
+        let exponent = crate::power_of_two::extent_exponent3(
+            faces.iter().flat_map(|f| crate::face::vertices(f).iter().map(|&v| points[v as usize])),
+        );
+        let unit: std::borrow::Cow<[DVec3]> = if exponent == 0 {
+            std::borrow::Cow::Borrowed(&points)
+        } else {
+            let mut unit = try_with_capacity(n, "scaled points")?;
+            unit.extend(points.iter().map(|&p| crate::power_of_two::scale_point3(p, -exponent)));
+            std::borrow::Cow::Owned(unit)
+        };
         let mut faces = faces;
         let nf = faces.len();
         let mut turned_outward = try_filled(nf, false, "face orientations")?;
@@ -129,7 +142,7 @@ impl SurfaceMesh {
                 face_component[f as usize] = component_count;
             }
             component_count += 1;
-            if closed && enclosed_volume(&points, faces, component) < 0.0 {
+            if closed && enclosed_volume(&unit, faces, component) < 0.0 {
                 any_turned = true;
                 crate::mesh::reverse_component(faces, component, &mut turned_outward);
             }
@@ -140,7 +153,8 @@ impl SurfaceMesh {
         }
         let edges = build_edges(&faces)?;
         let components = count_components(n, &faces, &edges, &face_component, component_count as usize);
-        let normals = vertex_normals(&points, &faces);
+        let normals = vertex_normals(&unit, &faces);
+        drop(unit);
         Ok(SurfaceMesh {
             points,
             faces,
@@ -151,6 +165,25 @@ impl SurfaceMesh {
             face_component,
             components,
             normals,
+        })
+    }
+
+    /// This mesh with every position scaled by `2^exponent` (exact, see
+    /// [`crate::power_of_two::scale_by_power_of_two`]); everything else, the vertex normals
+    /// included, is the same.
+    pub(crate) fn scaled(&self, exponent: i32) -> Result<SurfaceMesh> {
+        let mut points = try_with_capacity(self.points.len(), "scaled points")?;
+        points.extend(self.points.iter().map(|&p| crate::power_of_two::scale_point3(p, exponent)));
+        Ok(SurfaceMesh {
+            points,
+            faces: self.faces.clone(),
+            fixed: self.fixed.clone(),
+            reoriented: self.reoriented.clone(),
+            turned_outward: self.turned_outward.clone(),
+            edges: self.edges.clone(),
+            face_component: self.face_component.clone(),
+            components: self.components.clone(),
+            normals: self.normals.clone(),
         })
     }
 

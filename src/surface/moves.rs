@@ -202,7 +202,16 @@ fn curve_or_still_move(
             let (lo, hi) = surface.tracks.interval(slot, &state.params);
             let s0 = state.params[v];
             let target = 0.5 * lo + 0.5 * hi;
-            let step = (target - s0) * rule.lambda;
+            let mut step = (target - s0) * rule.lambda;
+            // The curve tolerance first: the longest of the step and its halvings it allows.
+            let mut halvings = 0;
+            while !surface.curve_allows(state, slot, s0 + step) {
+                if halvings == MAX_HALVINGS {
+                    return None;
+                }
+                step *= 0.5;
+                halvings += 1;
+            }
             if !step.is_finite() || step == 0.0 {
                 return None;
             }
@@ -224,7 +233,7 @@ fn curve_or_still_move(
                 return scored(first);
             }
             let mut d = step;
-            for _ in 0..MAX_HALVINGS {
+            for _ in halvings..MAX_HALVINGS {
                 d *= 0.5;
                 let candidate = surface.place_on_curve(v, slot, s0 + d);
                 if guard_accepts(&surface.star_score(state, v, Some(&candidate)), &current, rule.floor) {
@@ -341,7 +350,11 @@ fn curve_search(surface: &Surface, state: &State, v: usize, slot: Slot, current:
         }
         let mut centre = None;
         for k in 1..=CURVE_SAMPLES {
-            let candidate = surface.place_on_curve(v, slot, lo + h * k as f64);
+            let s = lo + h * k as f64;
+            if !surface.curve_allows(state, slot, s) {
+                continue;
+            }
+            let candidate = surface.place_on_curve(v, slot, s);
             let score = surface.star_score(state, v, Some(&candidate));
             if best.as_ref().is_none_or(|(b, _)| score.better_than(b)) {
                 best = Some((score, candidate));

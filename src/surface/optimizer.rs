@@ -86,7 +86,13 @@ pub struct SurfaceOptimizer {
     patches: Patches,
     tracks: Tracks,
     motion: Vec<Motion>,
+    /// The input positions in the optimizer's units: the caller's scaled by `2^-exponent`.
     input_points: Vec<DVec3>,
+    /// The caller's input positions when they differ from `input_points` (`exponent != 0`).
+    caller_points: Vec<DVec3>,
+    /// The power of two the optimizer's units are of the caller's (see [`SurfaceOptimizer::new`]).
+    exponent: i32,
+    /// The input's mean edge length, in the optimizer's units.
     mean_edge: f64,
 }
 
@@ -95,7 +101,24 @@ impl SurfaceOptimizer {
     /// faces' normals differ by more than `feature_angle_deg` (also the turn at which a feature
     /// curve has a corner), and `marked` lists more feature edges as vertex pairs (errors as
     /// [`SurfaceFeatures::detect`]).
+    ///
+    /// The optimizer works on the mesh scaled by a power of two into the unit box (exact):
+    /// normals, squared lengths and areas neither over- nor underflow at any scale, and a mesh
+    /// scaled by a power of two gets the very same run. Results go back to the caller's units
+    /// exactly, and a vertex that did not move keeps the caller's bits.
     pub fn new(mesh: &SurfaceMesh, feature_angle_deg: f64, marked: &[[u32; 2]]) -> Result<SurfaceOptimizer> {
+        let exponent = crate::power_of_two::extent_exponent3(
+            mesh.faces()
+                .iter()
+                .flat_map(|f| crate::face::vertices(f).iter().map(|&v| mesh.points()[v as usize])),
+        );
+        let scaled;
+        let (mesh, caller_points) = if exponent == 0 {
+            (mesh, Vec::new())
+        } else {
+            scaled = mesh.scaled(-exponent)?;
+            (&scaled, crate::alloc::try_copy(mesh.points(), "input positions")?)
+        };
         let features = SurfaceFeatures::detect(mesh, feature_angle_deg, marked)?;
         let topo = Topology::try_from_faces(mesh.points().len(), mesh.faces())?;
         let patches = Patches::new(mesh, &features)?;
@@ -138,6 +161,8 @@ impl SurfaceOptimizer {
             tracks,
             motion,
             input_points: mesh.points().to_vec(),
+            caller_points,
+            exponent,
             mean_edge,
         })
     }
@@ -153,11 +178,12 @@ impl SurfaceOptimizer {
     }
 
     pub(super) fn surface(&self) -> Surface<'_> {
-        self.bounded(&[])
+        self.bounded(&[], None)
     }
 
-    /// The surface whose faces may not fall below `bounds` (one per face).
-    pub(super) fn bounded<'a>(&'a self, bounds: &'a [Bound]) -> Surface<'a> {
+    /// The surface whose faces may not fall below `bounds` (one per face) and whose curves'
+    /// new edges stay within `curve_tolerance` (`Options::max_boundary_deviation`).
+    pub(super) fn bounded<'a>(&'a self, bounds: &'a [Bound], curve_tolerance: Option<f64>) -> Surface<'a> {
         Surface {
             faces: &self.faces,
             topo: &self.topo,
@@ -165,6 +191,7 @@ impl SurfaceOptimizer {
             tracks: &self.tracks,
             motion: &self.motion,
             bounds,
+            curve_tolerance,
         }
     }
 
@@ -233,7 +260,7 @@ impl SurfaceOptimizer {
         if mesh.faces() != self.faces.as_slice() {
             return Err(Error::ConnectivityMismatch { expected: self.faces.len(), got: mesh.faces().len() });
         }
-        if mesh.points() != self.input_points.as_slice() {
+        if mesh.points() != self.caller_input() {
             return Err(Error::InvalidOption {
                 name: "points",
                 reason: "the mesh has moved since its optimizer was built: build a new SurfaceOptimizer"
@@ -257,7 +284,7 @@ impl SurfaceOptimizer {
         };
         let Run { state, input, input_values, iterations, untangle_sweeps, cancelled, max_min, end } = run;
         // Only moved vertices change: the others keep their bits (they were never written).
-        mesh.set_points(&state.points)?;
+        mesh.set_points(&self.to_caller(&state.points)?)?;
         Ok(SurfaceReport {
             input,
             output: QualityStats::from_values(&end.values),
@@ -275,8 +302,47 @@ impl SurfaceOptimizer {
             feature_curves: self.features.curves().len(),
             corners: self.features.roles().iter().filter(|r| **r == VertexRole::Corner).count(),
             movable: self.motion.iter().filter(|m| **m != Motion::Still).count(),
-            fidelity: end.fidelity,
+            fidelity: self.fidelity_to_caller(end.fidelity),
         })
+    }
+
+    /// The caller's input positions.
+    fn caller_input(&self) -> &[DVec3] {
+        if self.exponent == 0 { &self.input_points } else { &self.caller_points }
+    }
+
+    /// `points`, in the caller's units, in the optimizer's.
+    fn to_units(&self, points: &[DVec3]) -> Result<Vec<DVec3>> {
+        let mut out = crate::alloc::try_with_capacity(points.len(), "scaled positions")?;
+        out.extend(points.iter().map(|&p| crate::power_of_two::scale_point3(p, -self.exponent)));
+        Ok(out)
+    }
+
+    /// `points`, a placement in the optimizer's units, in the caller's: a vertex at its input
+    /// position gets the caller's bits back (its scaled copy may have lost some below the
+    /// normal range), a moved one its position scaled back (exact).
+    fn to_caller(&self, points: &[DVec3]) -> Result<Vec<DVec3>> {
+        if self.exponent == 0 {
+            return crate::alloc::try_copy(points, "output positions");
+        }
+        let mut out = crate::alloc::try_with_capacity(points.len(), "output positions")?;
+        out.extend(points.iter().zip(&self.input_points).zip(&self.caller_points).map(
+            |((&p, &input), &caller)| {
+                if p == input { caller } else { crate::power_of_two::scale_point3(p, self.exponent) }
+            },
+        ));
+        Ok(out)
+    }
+
+    /// Distances measured in the optimizer's units, in the caller's (exact).
+    fn fidelity_to_caller(&self, f: SurfaceFidelity) -> SurfaceFidelity {
+        let back = |d: f64| crate::power_of_two::scale_by_power_of_two(d, self.exponent);
+        SurfaceFidelity {
+            max_distance: back(f.max_distance),
+            max_feature_distance: back(f.max_feature_distance),
+            max_curve_deviation: back(f.max_curve_deviation),
+            mean_edge: back(f.mean_edge),
+        }
     }
 
     /// What the report measures of a run's result, computed on the run's pool.
@@ -328,7 +394,12 @@ impl SurfaceOptimizer {
         } else {
             (0..n).map(distances).fold((0.0, 0.0), larger)
         };
-        SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge }
+        SurfaceFidelity {
+            max_distance,
+            max_feature_distance,
+            max_curve_deviation: self.curve_deviation(&state.params),
+            mean_edge: self.mean_edge,
+        }
     }
 
     /// The quality of `points`, a placement of this optimizer's mesh (another smoother's
@@ -337,10 +408,20 @@ impl SurfaceOptimizer {
     /// values, and the distances of the vertices from the whole input surface and of the
     /// on-curve vertices from their curves. [`Error::VertexCountMismatch`] if `points` has
     /// another length.
-    pub fn measure(&self, points: &[DVec3]) -> Result<SurfaceMeasure> {
-        if points.len() != self.input_points.len() {
-            return Err(Error::VertexCountMismatch { expected: self.input_points.len(), got: points.len() });
+    pub fn measure(&self, caller_points: &[DVec3]) -> Result<SurfaceMeasure> {
+        if caller_points.len() != self.input_points.len() {
+            return Err(Error::VertexCountMismatch {
+                expected: self.input_points.len(),
+                got: caller_points.len(),
+            });
         }
+        let scaled;
+        let points = if self.exponent == 0 {
+            caller_points
+        } else {
+            scaled = self.to_units(caller_points)?;
+            &scaled
+        };
         let mut state = self.initial_state();
         if points != self.input_points.as_slice() {
             state.points = points.to_vec();
@@ -358,8 +439,16 @@ impl SurfaceOptimizer {
             }
         }
         let values = self.values(&state);
-        let verdict_values = crate::quality3d::verdict_values(points, &self.faces);
+        let verdict_values = crate::quality3d::verdict_values(caller_points, &self.faces);
         let whole = ReferenceSurface::new(&self.input_points, &self.faces)?;
+        // Each on-curve vertex's arclength: the input's where it has not moved, else that of
+        // its closest point on its curve.
+        let mut params = self.tracks.initial_params();
+        for (v, p) in points.iter().enumerate() {
+            if let (Some(slot), true) = (self.tracks.slot(v), *p != self.input_points[v]) {
+                params[v] = self.tracks.track(slot.track).closest_param(*p);
+            }
+        }
         let (mut max_distance, mut max_feature_distance) = (0.0f64, 0.0f64);
         for (v, p) in points.iter().enumerate() {
             if *p == self.input_points[v] || self.topo.vertex_quads(v).is_empty() {
@@ -376,7 +465,12 @@ impl SurfaceOptimizer {
             by_kind: ByFaceKind::new(&self.faces, &values),
             values,
             verdict_values,
-            fidelity: SurfaceFidelity { max_distance, max_feature_distance, mean_edge: self.mean_edge },
+            fidelity: self.fidelity_to_caller(SurfaceFidelity {
+                max_distance,
+                max_feature_distance,
+                max_curve_deviation: self.curve_deviation(&params),
+                mean_edge: self.mean_edge,
+            }),
         })
     }
 
@@ -397,7 +491,7 @@ impl SurfaceOptimizer {
         // Every face's bounds in both measures: no move goes below them, and what ends below
         // them after rounding goes back (`restore_below_bounds`).
         let bounds = Bound::of_input(&values, &input_verdicts, options.guard_floor);
-        let surface = self.bounded(&bounds);
+        let surface = self.bounded(&bounds, options.max_boundary_deviation);
         let input_both = Both::new(input, input_verdict);
         let rounds = if options.max_min { max_min_rounds(options.effort) } else { 0 };
         let tie = if rounds > 0 { MIN_TIE_BEFORE_MAX_MIN } else { MIN_TIE };
@@ -591,18 +685,50 @@ impl SurfaceOptimizer {
             }
             state = kept.1;
         }
-        self.restore_below_bounds(&mut state, &bounds);
+        self.restore_below_bounds(&mut state, &bounds, options.max_boundary_deviation);
         let end = self.measure_end(&state);
         Run { state, input, input_values: values, iterations, untangle_sweeps, cancelled, max_min, end }
     }
 
+    /// The largest distance of a new edge along a curve from the stretch it replaces, the
+    /// curves' vertices at arclengths `params` ([`SurfaceFidelity::max_curve_deviation`]).
+    fn curve_deviation(&self, params: &[f64]) -> f64 {
+        self.tracks
+            .edges(params)
+            .map(|(t, _, s0, s1)| t.chord_deviation(s0, s1).new_to_original)
+            .fold(0.0, f64::max)
+    }
+
     /// Puts back at their input positions the moved vertices of every face below its bound in
-    /// either measure, round after round until none is (at worst the input, where every face
-    /// is at its input value): the guarantee, whatever path the run took (no guard, the
-    /// rounding of a projection).
-    fn restore_below_bounds(&self, state: &mut State, bounds: &[Bound]) -> usize {
+    /// either measure, and with a curve tolerance those of every curve edge beyond it (or
+    /// whose ends passed each other), round after round until none is (at worst the input,
+    /// where every face is at its input value and every curve edge on its curve): the
+    /// guarantee, whatever path the run took (no guard, the rounding of a projection).
+    fn restore_below_bounds(
+        &self,
+        state: &mut State,
+        bounds: &[Bound],
+        curve_tolerance: Option<f64>,
+    ) -> usize {
         let initial = self.initial_state();
         let mut restored = 0;
+        let restore = |state: &mut State, v: usize| {
+            if state.points[v] == initial.points[v] {
+                return false;
+            }
+            state.points[v] = initial.points[v];
+            state.params[v] = initial.params[v];
+            state.hints[v] = initial.hints[v];
+            for &g in self.topo.vertex_quads(v) {
+                let g = g as usize;
+                for (k, &u) in corner_vertices(&self.faces[g]).iter().enumerate() {
+                    if u as usize == v {
+                        state.normals[g][k] = initial.normals[g][k];
+                    }
+                }
+            }
+            true
+        };
         loop {
             let values = self.values(state);
             let verdicts = self.verdicts(&state.points);
@@ -612,23 +738,21 @@ impl SurfaceOptimizer {
                     continue;
                 }
                 for &v in crate::face::vertices(&self.faces[f]) {
-                    let v = v as usize;
-                    if state.points[v] == initial.points[v] {
-                        continue;
+                    if restore(state, v as usize) {
+                        restored += 1;
+                        changed = true;
                     }
-                    state.points[v] = initial.points[v];
-                    state.params[v] = initial.params[v];
-                    state.hints[v] = initial.hints[v];
-                    for &g in self.topo.vertex_quads(v) {
-                        let g = g as usize;
-                        for (k, &u) in corner_vertices(&self.faces[g]).iter().enumerate() {
-                            if u as usize == v {
-                                state.normals[g][k] = initial.normals[g][k];
-                            }
-                        }
+                }
+            }
+            if let Some(tol) = curve_tolerance {
+                // The ends of every edge beyond the tolerance (by the curve order, through the
+                // curves' vertex lists).
+                let beyond: Vec<[u32; 2]> = self.tracks.beyond(&state.params, tol);
+                for v in beyond.into_iter().flatten() {
+                    if restore(state, v as usize) {
+                        restored += 1;
+                        changed = true;
                     }
-                    restored += 1;
-                    changed = true;
                 }
             }
             if !changed {

@@ -12,6 +12,11 @@ pub struct SurfaceFidelity {
     pub max_distance: f64,
     /// The largest distance of an on-curve vertex from its feature curve's original polyline.
     pub max_feature_distance: f64,
+    /// The largest distance of a new edge along a feature curve (a chord between two
+    /// consecutive vertices of the curve) from the stretch of the curve's original polyline it
+    /// replaces: how far the curves' shape changed, as the planar run's boundary deviation.
+    /// `Options::max_boundary_deviation` bounds it relative to each edge's length.
+    pub max_curve_deviation: f64,
     /// The input's mean edge length, which the relative distances divide by.
     pub mean_edge: f64,
 }
@@ -25,6 +30,11 @@ impl SurfaceFidelity {
     /// [`max_feature_distance`](Self::max_feature_distance) over the mean edge.
     pub fn max_feature_distance_relative(&self) -> f64 {
         self.max_feature_distance / self.mean_edge
+    }
+
+    /// [`max_curve_deviation`](Self::max_curve_deviation) over the mean edge.
+    pub fn max_curve_deviation_relative(&self) -> f64 {
+        self.max_curve_deviation / self.mean_edge
     }
 }
 

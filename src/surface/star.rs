@@ -160,6 +160,9 @@ pub struct Surface<'a> {
     pub motion: &'a [Motion],
     /// Per face, the values it may not fall below (empty: no bounds, as when measuring).
     pub bounds: &'a [Bound],
+    /// `Options::max_boundary_deviation`: each new edge along a feature curve within this
+    /// times its length of the stretch of the curve it replaces (`None`: unlimited).
+    pub curve_tolerance: Option<f64>,
 }
 
 impl Surface<'_> {
@@ -304,6 +307,16 @@ impl Surface<'_> {
         let mut normals = [(u32::MAX, DVec3::Z); MAX_PATCHES];
         normals[0] = (patch, normal);
         Placed { point, param: 0.0, hint: triangle, normals, count: 1 }
+    }
+
+    /// Whether on-curve vertex `v` may go to arclength `s` by the curve tolerance: both its
+    /// new edges along the curve within the tolerance of the stretches they replace.
+    pub fn curve_allows(&self, state: &State, slot: Slot, s: f64) -> bool {
+        self.curve_tolerance.is_none_or(|tol| {
+            let (lo, hi) = self.tracks.interval(slot, &state.params);
+            let track = self.tracks.track(slot.track);
+            track.chord_within(lo, s, tol) && track.chord_within(s, hi, tol)
+        })
     }
 
     /// On-curve vertex `v` at arclength `s` of its track, with the normal of each patch

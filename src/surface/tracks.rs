@@ -4,6 +4,14 @@
 use glam::DVec3;
 
 use super::features::{FeatureCurve, SurfaceFeatures, VertexRole};
+use crate::smooth::boundary::ChordDeviation;
+
+/// The polyline vertices of a stretch that [`Track::chord_deviation`] holds at most (a chord
+/// spanning more compares its first ones against the chord, and its samples against them).
+const STRETCH_MAX: usize = 34;
+
+/// Sample points per chord for the new -> original direction, as in the plane.
+const CHORD_SAMPLES: usize = 8;
 
 /// One feature curve's original polyline, by arclength.
 #[derive(Clone, Debug)]
@@ -66,6 +74,97 @@ impl Track {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Calls `visit` with the polyline's vertices strictly between arclengths `s0 < s1`
+    /// (unwrapped around a closed curve's start, as [`Tracks::interval`] gives them), in order.
+    fn for_each_vertex_between(&self, s0: f64, s1: f64, mut visit: impl FnMut(DVec3)) {
+        let len = self.length();
+        if !(s0 < s1) || !(len > 0.0) || !len.is_finite() {
+            return;
+        }
+        if !self.closed {
+            let from = self.arclength.partition_point(|&a| a <= s0);
+            for i in from..self.points.len() {
+                if self.arclength[i] >= s1 {
+                    break;
+                }
+                visit(self.points[i]);
+            }
+            return;
+        }
+        // Shift s0 into [0, len); the last point repeats the first, so only the others count,
+        // once per turn the stretch makes.
+        let turns = (s0 / len).floor();
+        let (s0, s1) = (s0 - turns * len, s1 - turns * len);
+        let last = self.points.len() - 1;
+        let mut offset = 0.0;
+        while offset < s1 {
+            let from = if offset == 0.0 { self.arclength[..last].partition_point(|&a| a <= s0) } else { 0 };
+            for i in from..last {
+                let a = self.arclength[i] + offset;
+                if a >= s1 {
+                    return;
+                }
+                if a > s0 {
+                    visit(self.points[i]);
+                }
+            }
+            offset += len;
+        }
+    }
+
+    /// How far the chord from arclength `s0` to `s1` (unwrapped, `s0 < s1`) is from the
+    /// stretch of the polyline between them, as in the plane
+    /// ([`crate::smooth::boundary::BoundaryGeometry::chord_deviation`]): the stretch's
+    /// vertices against the chord, and sample points of the chord against the stretch.
+    pub fn chord_deviation(&self, s0: f64, s1: f64) -> ChordDeviation {
+        let (a, b) = (self.at(s0), self.at(s1));
+        let mut stretch = [DVec3::ZERO; STRETCH_MAX];
+        let mut count = 1;
+        stretch[0] = a;
+        let mut original_to_new = 0.0f64;
+        self.for_each_vertex_between(s0, s1, |p| {
+            original_to_new = original_to_new.max((super::closest_point_on_segment(p, a, b).0 - p).length());
+            if count < STRETCH_MAX - 1 {
+                stretch[count] = p;
+                count += 1;
+            }
+        });
+        stretch[count] = b;
+        let stretch = &stretch[..=count];
+        let mut new_to_original = 0.0f64;
+        if stretch.len() > 2 {
+            for k in 1..CHORD_SAMPLES {
+                let q = a + (b - a) * (k as f64 / CHORD_SAMPLES as f64);
+                let d = stretch
+                    .windows(2)
+                    .map(|w| (super::closest_point_on_segment(q, w[0], w[1]).0 - q).length())
+                    .fold(f64::INFINITY, f64::min);
+                new_to_original = new_to_original.max(d);
+            }
+        }
+        ChordDeviation { new_to_original, original_to_new }
+    }
+
+    /// Whether the chord from arclength `s0` to `s1` (unwrapped, `s0 < s1`) is within
+    /// `tolerance` times its length of the stretch it replaces (a shape tolerance, as
+    /// `Options::max_boundary_deviation` in the plane).
+    pub fn chord_within(&self, s0: f64, s1: f64, tolerance: f64) -> bool {
+        s0 < s1 && self.chord_deviation(s0, s1).largest() <= tolerance * (self.at(s1) - self.at(s0)).length()
+    }
+
+    /// The arclength of the polyline's point closest to `p`.
+    pub fn closest_param(&self, p: DVec3) -> f64 {
+        let mut best = (f64::INFINITY, 0.0);
+        for (i, w) in self.points.windows(2).enumerate() {
+            let (q, t) = super::closest_point_on_segment(p, w[0], w[1]);
+            let d = (q - p).length();
+            if d < best.0 {
+                best = (d, self.arclength[i] + t * (self.arclength[i + 1] - self.arclength[i]));
+            }
+        }
+        best.1
+    }
+
     /// The distance from `p` to the polyline.
     pub fn distance(&self, p: DVec3) -> f64 {
         self.points
@@ -123,6 +222,39 @@ impl Tracks {
             .collect()
     }
 
+    /// The edges of every curve at `params`, each as its track, its two vertices and the
+    /// arclengths of its ends (unwrapped around a closed curve's start, so the second is the
+    /// larger; on an open curve a pair out of order is an edge whose vertices passed each
+    /// other).
+    pub fn edges<'a>(
+        &'a self,
+        params: &'a [f64],
+    ) -> impl Iterator<Item = (&'a Track, [u32; 2], f64, f64)> + 'a {
+        self.tracks.iter().flat_map(move |t| {
+            let n = t.vertices.len();
+            let param = move |k: usize| match k {
+                // An open curve's ends are corners at their input arclength.
+                0 if !t.closed => t.arclength[0],
+                k if k + 1 == n && !t.closed => t.arclength[n - 1],
+                k => params[t.vertices[k] as usize],
+            };
+            let count = if t.closed { n } else { n.saturating_sub(1) };
+            (0..count).map(move |k| {
+                let (s0, s1) = (param(k), param((k + 1) % n));
+                // A closed curve's arclengths may have wrapped past its start either way.
+                let s1 = if t.closed { s0 + (s1 - s0).rem_euclid(t.length()) } else { s1 };
+                (t, [t.vertices[k], t.vertices[(k + 1) % n]], s0, s1)
+            })
+        })
+    }
+
+    /// The vertices of every curve edge at `params` that is not within `tolerance` times its
+    /// length of the stretch it replaces ([`Track::chord_within`]), or whose ends passed each
+    /// other.
+    pub fn beyond(&self, params: &[f64], tolerance: f64) -> Vec<[u32; 2]> {
+        self.edges(params).filter(|&(t, _, s0, s1)| !t.chord_within(s0, s1, tolerance)).map(|e| e.1).collect()
+    }
+
     /// The open interval of arclength that `slot`'s vertex may move in: between its two
     /// neighbours along the curve, at their current `params` (unwrapped around a closed
     /// curve's start, so the interval is increasing).
@@ -171,5 +303,33 @@ mod tests {
         let closed = Track::new(&FeatureCurve { vertices: vec![0, 1, 2], closed: true }, &pts);
         assert!((closed.length() - (3.0 + 5f64.sqrt())).abs() < 1e-15);
         assert_eq!(closed.at(closed.length() + 0.5), DVec3::new(0.5, 0.0, 0.0));
+    }
+
+    #[test]
+    fn a_chord_deviates_by_the_vertices_it_cuts_off() {
+        // The unit square as a closed curve: arclengths 0, 1, 2, 3 at its corners.
+        let pts = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let t = Track::new(&FeatureCurve { vertices: vec![0, 1, 2, 3], closed: true }, &pts);
+        // Along one side: nothing cut off.
+        assert_eq!(t.chord_deviation(0.25, 0.75).largest(), 0.0);
+        assert!(t.chord_within(0.25, 0.75, 0.0));
+        // Across corner (1, 0): the corner is sqrt(2)/4 off the chord from (0.5, 0) to (1, 0.5).
+        let d = t.chord_deviation(0.5, 1.5);
+        assert!((d.original_to_new - 0.125f64.sqrt()).abs() < 1e-15, "{d:?}");
+        assert!(d.new_to_original > 0.0 && d.new_to_original <= d.original_to_new + 1e-15);
+        assert!(!t.chord_within(0.5, 1.5, 0.3) && t.chord_within(0.5, 1.5, 0.6));
+        // Across the curve's start, unwrapped either way: the corner at the origin is cut off.
+        for (s0, s1) in [(-0.5, 0.5), (3.5, 4.5), (7.5, 8.5)] {
+            let d = t.chord_deviation(s0, s1);
+            assert!((d.original_to_new - 0.125f64.sqrt()).abs() < 1e-15, "{s0}..{s1}: {d:?}");
+        }
+        // Spanning two corners: both cut off, the farther counts.
+        assert_eq!(t.chord_deviation(0.5, 2.5).original_to_new, 0.5);
+        // Out of order: no chord.
+        assert!(!t.chord_within(1.5, 0.5, 1.0));
+        // An open polyline: its inner vertex is cut off by a chord across it.
+        let open = Track::new(&FeatureCurve { vertices: vec![0, 1, 2], closed: false }, &pts);
+        assert!((open.chord_deviation(0.5, 1.5).original_to_new - 0.125f64.sqrt()).abs() < 1e-15);
+        assert_eq!(open.closest_param(DVec3::new(1.2, 0.5, 0.0)), 1.5);
     }
 }

@@ -15,6 +15,8 @@ pub fn fidelity_json(f: &SurfaceFidelity) -> Value {
         "max_distance_relative": f.max_distance_relative(),
         "max_feature_distance": f.max_feature_distance,
         "max_feature_distance_relative": f.max_feature_distance_relative(),
+        "max_curve_deviation": f.max_curve_deviation,
+        "max_curve_deviation_relative": f.max_curve_deviation_relative(),
         "mean_edge": f.mean_edge,
     })
 }
@@ -78,11 +80,13 @@ pub fn print_report(r: &SurfaceReport, moved: usize) {
 /// The distances as text.
 pub fn print_fidelity(f: &SurfaceFidelity) {
     outln!(
-        "surface: largest distance from the input surface {:.3e} ({:.3e} of the mean edge), of a feature vertex from its curve {:.3e} ({:.3e})",
+        "surface: largest distance from the input surface {:.3e} ({:.3e} of the mean edge), of a feature vertex from its curve {:.3e} ({:.3e}), of a curve's new edge from its curve {:.3e} ({:.3e})",
         f.max_distance,
         f.max_distance_relative(),
         f.max_feature_distance,
-        f.max_feature_distance_relative()
+        f.max_feature_distance_relative(),
+        f.max_curve_deviation,
+        f.max_curve_deviation_relative()
     );
 }
 

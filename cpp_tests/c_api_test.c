@@ -901,7 +901,8 @@ static void test_surface(void) {
   /* The curve tolerance holds on a surface: with 0, no new edge along a curve leaves it, and
    * the report's boundary deviation measures the curves' new edges. */
   {
-    QuadoptOptions o = quadopt_options_init();
+    QuadoptOptions o;
+    CHECK_STATUS(quadopt_options_init(&o, sizeof o), QUADOPT_STATUS_OK);
     o.max_boundary_deviation = 0;
     memcpy(xyz, before, sizeof before);
     CHECK_STATUS(quadopt_optimize_surface(xyz, CYL_N, faces, CYL_F, NULL, NULL, 0, &o, &r), QUADOPT_STATUS_OK);

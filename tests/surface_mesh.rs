@@ -412,3 +412,84 @@ fn closed_and_open_components_together() {
     assert_eq!(f.corners().len(), 8 + 4);
     assert_eq!(f.curves().len(), 12 + 4);
 }
+
+/// The plain dihedral rule: edges whose faces' normals differ by more than `angle`.
+fn bent_beyond(mesh: &SurfaceMesh, angle: f64) -> usize {
+    let n = |f: u32| quadopt::surface::face_vector_area(mesh.points(), &mesh.faces()[f as usize]);
+    let angle_of = |e: &quadopt::surface::SurfaceEdge| {
+        let (a, b) = (n(e.faces[0]), n(e.faces[1]));
+        a.cross(b).length().atan2(a.dot(b)).to_degrees()
+    };
+    mesh.edges().iter().filter(|e| !e.is_boundary() && angle_of(e) > angle + 1e-3).count()
+}
+
+#[test]
+fn a_low_poly_torus_bends_everywhere_and_has_no_crease() {
+    // Eight segments around, six around the tube (offset by half a segment, so no face is
+    // flat): 48 edges bend by 58 to 64 degrees, past the feature angle, and every edge around
+    // them by at least 23. The plain dihedral rule would make most vertices corners.
+    let (points, faces) = grid(8, 6, true, true, |i, j| {
+        let (t, p) = (2.0 * PI * f64::from(i) / 8.0, 2.0 * PI * (f64::from(j) + 0.5) / 6.0);
+        let r = 2.0 + 0.7 * p.cos();
+        DVec3::new(r * t.cos(), r * t.sin(), 0.7 * p.sin())
+    });
+    let mesh = SurfaceMesh::new(points, faces, None).unwrap();
+    assert_eq!(bent_beyond(&mesh, 45.0), 48);
+    let f = SurfaceFeatures::detect_default(&mesh);
+    assert_eq!((f.feature_edge_count(), f.corners().len()), (0, 0));
+    // At 30 degrees they stand out from the flattest edges around them by more: creases.
+    assert_eq!(
+        SurfaceFeatures::detect(&mesh, 30.0, &[]).unwrap().sharp_edge_count(),
+        bent_beyond(&mesh, 45.0)
+    );
+}
+
+#[test]
+fn boxes_keep_every_edge_however_coarse() {
+    for n in [1, 2, 5] {
+        let (points, faces, _) = cube(n);
+        let mesh = SurfaceMesh::new(points, faces, None).unwrap();
+        let f = SurfaceFeatures::detect_default(&mesh);
+        assert_eq!(f.sharp_edge_count(), 12 * n as usize, "cube({n})");
+        assert_eq!(f.corners().len(), 8, "cube({n})");
+        assert_eq!(f.curves().len(), 12, "cube({n})");
+    }
+}
+
+/// A 6 x `rows` plate (vertex (i, j) is 7 j + i), flat for y <= 1 and folded along x = 3 beyond,
+/// ever more steeply: a V-shaped valley that starts inside the plate and runs to the boundary.
+/// Its floor bends past 45 degrees from (3, 2) on, and so does the plate's fold at y = 1 next
+/// to the boundary (the edges (0, 1)-(1, 1) and (5, 1)-(6, 1)).
+fn valley(rows: u32) -> SurfaceMesh {
+    let (points, faces) = grid(6, rows, false, false, |i, j| {
+        let (x, y) = (f64::from(i), f64::from(j));
+        DVec3::new(x, y, 1.5 * (y - 1.0).max(0.0) * (x - 3.0).abs() / 3.0)
+    });
+    SurfaceMesh::new(points, faces, None).unwrap()
+}
+
+#[test]
+fn a_crease_that_dies_out_within_two_edges_is_faceting() {
+    let v = |i: u32, j: u32| (7 * j + i) as usize;
+    // One edge of valley floor, (3, 2) to the boundary at (3, 3), and the two fold edges at
+    // y = 1, each from the boundary to a vertex with no other feature edge: they bend past the
+    // feature angle, and the plain rule would make (3, 2), (1, 1) and (5, 1) corners.
+    let short = valley(3);
+    assert_eq!(bent_beyond(&short, 45.0), 3);
+    let f = SurfaceFeatures::detect_default(&short);
+    assert_eq!(f.sharp_edge_count(), 0);
+    for at in [v(3, 2), v(1, 1), v(5, 1)] {
+        assert_eq!(f.roles()[at], VertexRole::Free);
+    }
+    // Three edges of floor, (3, 2) to the boundary at (3, 5): a crease.
+    let long = valley(5);
+    assert_eq!(bent_beyond(&long, 45.0), 5);
+    let f = SurfaceFeatures::detect_default(&long);
+    assert_eq!(f.sharp_edge_count(), 3);
+    assert_eq!(f.roles()[v(3, 2)], VertexRole::Corner);
+    assert!(matches!(f.roles()[v(3, 3)], VertexRole::OnCurve(_)));
+    assert_eq!(f.roles()[v(1, 1)], VertexRole::Free);
+    // Marked edges are kept, however short.
+    let f = SurfaceFeatures::detect(&short, 45.0, &[[v(3, 2) as u32, v(3, 3) as u32]]).unwrap();
+    assert_eq!(f.roles()[v(3, 2)], VertexRole::Corner);
+}

@@ -5,7 +5,10 @@
 //!   (target: under 1 s each; they took from seconds to well over 10 minutes before the
 //!   untangler's local program was solved in linear time);
 //! - `topology/200000`: building the topology of a fan of 200k quads (target: about the time
-//!   of a 200k-quad grid; it took 10 s and more when ring building was quadratic).
+//!   of a 200k-quad grid; it took 10 s and more when ring building was quadratic);
+//! - `cone/N`: a default run on a cone whose apex is shared by N quads (2,000 and 20,000) on a
+//!   curved surface (issue 42; target: the time grows as the valence does, about 10x from one
+//!   to the other; a star's vertex lookup was quadratic in its size, and 50,000 took 35 s).
 //!
 //! `cargo bench --bench fans` runs them.
 
@@ -17,6 +20,10 @@ use std::time::Duration;
 #[path = "../tests/common/fans.rs"]
 mod fans;
 use fans::tangled_fan;
+
+#[allow(dead_code)]
+#[path = "../tests/common/surfaces.rs"]
+mod surfaces;
 
 fn benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("fans");
@@ -42,6 +49,18 @@ fn benches(c: &mut Criterion) {
     let fan = tangled_fan(200_000, 1.0);
     group
         .bench_function(BenchmarkId::new("topology", 200_000), |b| b.iter(|| Topology::new(black_box(&fan))));
+    for n in [2000, 20_000] {
+        let (points, faces) = surfaces::cone_apex(n, 1);
+        let mesh = quadopt::surface::SurfaceMesh::new(points, faces, None).unwrap();
+        let optimizer = quadopt::surface::SurfaceOptimizer::new(&mesh, 45.0, &[]).unwrap();
+        group.bench_function(BenchmarkId::new("cone", n), |b| {
+            b.iter_batched_ref(
+                || mesh.clone(),
+                |m| optimizer.run(m, &Options::default(), None).unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+    }
     group.finish();
 }
 

@@ -404,3 +404,25 @@ fn mesquite_curved_meshes_are_improved_on_their_surfaces() {
         }
     }
 }
+
+#[test]
+fn a_cone_apex_shared_by_thousands_of_quads_keeps_every_face() {
+    // Only the apex can move (the zigzag boundary is all corners). Its star is 5,000 faces: a
+    // vertex lookup in it was quadratic (benches/fans.rs times it). Every face is below the
+    // guard's floor, so each is bounded by its own input value: the apex may move only where
+    // no face gets worse.
+    let (points, faces) = common::surfaces::cone_apex(5000, 3);
+    let input = SurfaceMesh::new(points, faces, None).unwrap();
+    let values = |m: &SurfaceMesh| {
+        SurfaceOptimizer::new(m, 45.0, &[]).unwrap().measure(m.points()).unwrap().verdict_values
+    };
+    for effort in [Effort::Fast, Effort::Balanced, Effort::Best] {
+        let mut mesh = input.clone();
+        let report = run(&mut mesh, &Options::default().with_effort(effort));
+        check_guarantees(&report);
+        assert_eq!(report.movable, 1);
+        assert_eq!(&mesh.points()[1..], &input.points()[1..]);
+        let (before, after) = (values(&input), values(&mesh));
+        assert!(before.iter().zip(&after).all(|(b, a)| a >= b), "{effort:?}: a face got worse");
+    }
+}

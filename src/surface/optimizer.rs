@@ -425,15 +425,32 @@ impl SurfaceOptimizer {
         let mut state = self.initial_state();
         if points != self.input_points.as_slice() {
             state.points = points.to_vec();
-            for (f, face) in self.faces.iter().enumerate() {
-                let patch = self.patches.of_face(f);
-                let cv = corner_vertices(face);
-                for k in 0..4 {
-                    let p = points[cv[k] as usize];
-                    // The input's own normal, bit for bit, where the vertex has not moved or
-                    // the corner is measured against its face's own normal.
-                    if p != self.input_points[cv[k] as usize] && !self.patches.is_own(f, k) {
-                        state.normals[f][k] = self.patches.project(patch, p, NO_TRIANGLE).normal;
+            // Each moved vertex projected once per patch around it (a cone's apex is a corner
+            // of thousands of faces), its normal there given to its corners. The input's own
+            // normal stays, bit for bit, where the vertex has not moved or the corner is
+            // measured against its face's own normal.
+            let mut normals: Vec<(u32, DVec3)> = Vec::new();
+            for (v, &p) in points.iter().enumerate() {
+                if p == self.input_points[v] {
+                    continue;
+                }
+                normals.clear();
+                for &f in self.topo.vertex_quads(v) {
+                    let f = f as usize;
+                    let patch = self.patches.of_face(f);
+                    for (k, &u) in corner_vertices(&self.faces[f]).iter().enumerate() {
+                        if u as usize != v || self.patches.is_own(f, k) {
+                            continue;
+                        }
+                        let normal = match normals.iter().find(|(q, _)| *q == patch) {
+                            Some(&(_, n)) => n,
+                            None => {
+                                let n = self.patches.project(patch, p, NO_TRIANGLE).normal;
+                                normals.push((patch, n));
+                                n
+                            }
+                        };
+                        state.normals[f][k] = normal;
                     }
                 }
             }

@@ -375,12 +375,30 @@ pub struct LocalStar {
     moving: RefCell<Vec<Option<MovingCorner>>>,
     moving_ready: Cell<bool>,
     scratch: Vec<u32>,
+    /// `global`'s local numbers, once the star has [`LINEAR_STAR_MAX`] vertices.
+    index: std::collections::HashMap<u32, u32>,
 }
+
+/// Vertices of a star up to which a linear search finds a vertex's local number (faster than a
+/// map in the usual stars of 9 to 20 vertices).
+const LINEAR_STAR_MAX: usize = 64;
 
 impl LocalStar {
     fn local(&mut self, u: u32, chart: &Chart, state: &State) -> u32 {
-        if let Some(i) = self.global.iter().position(|&g| g == u) {
-            return i as u32;
+        // A linear search in a usual star; a map in a large one (a fan of thousands of faces
+        // around a cone's apex), where the search would make the star's cost quadratic.
+        if self.global.len() < LINEAR_STAR_MAX {
+            if let Some(i) = self.global.iter().position(|&g| g == u) {
+                return i as u32;
+            }
+        } else {
+            if self.index.is_empty() {
+                self.index.extend(self.global.iter().enumerate().map(|(i, &g)| (g, i as u32)));
+            }
+            if let Some(&i) = self.index.get(&u) {
+                return i;
+            }
+            self.index.insert(u, self.global.len() as u32);
         }
         self.global.push(u);
         self.points.push(chart.to_chart(state.points[u as usize]));
@@ -395,8 +413,12 @@ impl LocalStar {
         self.full_ring.clear();
         for &u in &scratch {
             // Every vertex of the full ring is a corner of a face of the star.
-            let local = self.global.iter().position(|&g| g == u).unwrap_or(0);
-            self.full_ring.push(local as u32);
+            let local = if self.index.is_empty() {
+                self.global.iter().position(|&g| g == u).unwrap_or(0) as u32
+            } else {
+                self.index.get(&u).copied().unwrap_or(0)
+            };
+            self.full_ring.push(local);
         }
         self.scratch = scratch;
     }
@@ -404,6 +426,7 @@ impl LocalStar {
     /// Fills in `v`'s star in `chart` (all but its full ring).
     pub fn build(&mut self, surface: &Surface, state: &State, v: usize, chart: &Chart) {
         self.global.clear();
+        self.index.clear();
         self.points.clear();
         self.ring.clear();
         self.full_ring.clear();

@@ -91,3 +91,27 @@ pub fn uv_sphere(nu: u32, nv: u32) -> (Vec<DVec3>, Vec<Face>) {
     }
     (points, faces)
 }
+
+/// A cone's apex shared by `n` quads: the apex near the origin, `n` vertices on the circle of
+/// radius 1 at z = -0.5 (jittered by `seed`) and `n` on the circle of radius 2 at z = -1
+/// between them, quad `k` being (apex, inner `k`, outer `k`, inner `k + 1`). Its boundary
+/// zigzags, so every boundary vertex is a corner and only the apex (of valence `n`) moves.
+pub fn cone_apex(n: u32, seed: u64) -> (Vec<DVec3>, Vec<Face>) {
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    let mut jitter = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let step = 2.0 * PI / f64::from(n);
+    // The apex off the axis by a fraction of the fan's spacing at the inner circle.
+    let mut points = vec![DVec3::new(0.2 * step, -0.1 * step, 0.0)];
+    let at = |a: f64, r: f64| DVec3::new(r * a.cos(), r * a.sin(), -0.5 * r);
+    for k in 0..n {
+        points.push(at(step * (f64::from(k) + 0.02 * jitter()), 1.0));
+    }
+    for k in 0..n {
+        points.push(at(step * (f64::from(k) + 0.5), 2.0));
+    }
+    let faces = (0..n).map(|k| [0, 1 + k, 1 + n + k, 1 + (k + 1) % n]).collect();
+    (points, faces)
+}

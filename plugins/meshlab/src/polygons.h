@@ -218,8 +218,9 @@ Polygons read_polygons(const Mesh &m) {
     }
     if (loop.size() >= 5) {
       if (big++ == 0) {
-        first_big = "face " + std::to_string(f0) + " is part of a polygon of " + std::to_string(loop.size()) +
-                    " vertices (MeshLab faces " + detail::face_list(out.triangles, begin, out.triangles.size()) + ")";
+        first_big = "polygon " + std::to_string(p) + " (counting from 0 in face order; MeshLab faces " +
+                    detail::face_list(out.triangles, begin, out.triangles.size()) + ") has " +
+                    std::to_string(loop.size()) + " vertices";
       }
       loop.resize(4);  // keep the arrays' shape; the mesh is refused below
     }

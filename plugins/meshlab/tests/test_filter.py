@@ -83,13 +83,14 @@ def outer():
 NO_VERTEX = 0xFFFFFFFF
 
 
-def read_vtk(path):
-    """Points, faces (lists of indices) and scalar arrays of a legacy ASCII VTK file."""
-    import numpy as np
+def read_vtk_plain(path):
+    """Points (lists of 3 floats), faces (lists of indices) and scalar arrays (lists) of a legacy
+    ASCII VTK file."""
     tok = open(path).read().split()
     i = tok.index("POINTS")
     n = int(tok[i + 1])
-    pts = np.array([float(t) for t in tok[i + 3:i + 3 + 3 * n]]).reshape(n, 3)
+    flat = [float(t) for t in tok[i + 3:i + 3 + 3 * n]]
+    pts = [flat[3 * j:3 * j + 3] for j in range(n)]
     i = tok.index("CELLS")
     count = int(tok[i + 1])
     k = i + 3
@@ -111,11 +112,18 @@ def read_vtk(path):
                 j += 1
             if tok[j] == "LOOKUP_TABLE":
                 j += 2
-            arrays[name] = np.array([float(x) for x in tok[j:j + size]])
+            arrays[name] = [float(x) for x in tok[j:j + size]]
             j += size
         else:
             j += 1
     return pts, faces, arrays
+
+
+def read_vtk(path):
+    """read_vtk_plain() with numpy arrays."""
+    import numpy as np
+    pts, faces, arrays = read_vtk_plain(path)
+    return np.array(pts, dtype=np.float64).reshape(-1, 3), faces, {k: np.array(v) for k, v in arrays.items()}
 
 
 def write_vtk(path, pts, faces, fixed=None):

@@ -300,6 +300,12 @@ def inner(plugin, cli):
         pts, faces = samples[name]
         compare(name + " (pymeshlab.Mesh)", pts, faces, load(pts, faces, how="mesh"))
 
+    # An unreferenced vertex (kept in place, and out of the planar frame's fit).
+    pts, faces = samples["plate_2holes_mixed.vtk"]
+    extra = np.vstack([pts, [[7.25, -1.5, 0.0]]])
+    row = compare("plate_2holes_mixed + unreferenced vertex", extra, faces, load(extra, faces))
+    t.check(same(row["got"][-1], extra[-1]), "the unreferenced vertex stays")
+
     # A planar mesh in a tilted plane (the CLI's frame; a plane x = const too).
     pts, faces = samples["plate_2holes_mixed.vtk"]
     axis = np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)

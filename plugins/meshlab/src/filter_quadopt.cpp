@@ -310,6 +310,7 @@ std::map<std::string, QVariant> QuadoptFilterPlugin::optimize(const RichParamete
   for (std::size_t f = 0; f < faces; ++f) {
     Point3m normal(0, 0, 0);
     for (std::size_t t = poly.first[f]; t < poly.first[f + 1]; ++t) normal += m.face[poly.triangles[t]].N();
+    if (!(normal.Norm() > 0)) continue;  // a degenerate polygon keeps its triangles' normals
     normal.Normalize();
     for (std::size_t t = poly.first[f]; t < poly.first[f + 1]; ++t) m.face[poly.triangles[t]].N() = normal;
   }

@@ -894,6 +894,19 @@ static void test_surface(void) {
     if (v < 5) ok = ok && memcmp(&xyz[3 * v], &before[3 * v], 3 * sizeof(double)) == 0;
   }
   CHECK(ok); /* on the cylinder within the chordal tolerance; fixed vertices bit for bit */
+  /* Verdict's measure of the result, face by face: the report's output_verdict. */
+  {
+    QuadoptQuality vq;
+    double per_face[CYL_F], lowest = 2;
+    CHECK_STATUS(quadopt_verdict_quality(xyz, CYL_N, faces, CYL_F, &vq, per_face, CYL_F), QUADOPT_STATUS_OK);
+    CHECK(vq.min == r.output_verdict.min && vq.avg == r.output_verdict.avg &&
+          vq.inverted == r.output_verdict.inverted);
+    for (f = 0; f < CYL_F; ++f) lowest = per_face[f] < lowest ? per_face[f] : lowest;
+    CHECK(lowest == vq.min);
+    CHECK_STATUS(quadopt_verdict_quality(xyz, CYL_N, faces, CYL_F, NULL, NULL, 0), QUADOPT_STATUS_NULL_POINTER);
+    CHECK_STATUS(quadopt_verdict_quality(xyz, CYL_N, faces, CYL_F, &vq, per_face, CYL_F - 1),
+                 QUADOPT_STATUS_INVALID_ARGUMENT);
+  }
   /* quadopt_optimize with dim 3 takes the same path when z varies. */
   memcpy(again, before, sizeof before);
   CHECK_STATUS(quadopt_optimize(again, 3, CYL_N, faces, CYL_F, fixed, NULL, &r2), QUADOPT_STATUS_OK);

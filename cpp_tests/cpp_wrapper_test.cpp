@@ -10,6 +10,7 @@
 
 #include <quadopt.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -438,6 +439,26 @@ void test_surface() {
   CHECK_MSG(on, "a vertex left the cylinder (tolerance " << tolerance << ")");
   CHECK_MSG(still, "a fixed vertex moved");
   CHECK_MSG(line_ok, "a vertex of the marked line left it");
+  // Verdict's measure of the input and of the result: the report's two Verdict statistics.
+  {
+    std::vector<double> xyz_before, xyz_after, per_face;
+    for (std::size_t v = 0; v < points.size(); ++v) {
+      for (int c = 0; c < 3; ++c) {
+        xyz_before.push_back(before[v][c]);
+        xyz_after.push_back(points[v][c]);
+      }
+    }
+    const quadopt::Quality in = quadopt::verdict_quality(xyz_before, g_cylinder.quads);
+    const quadopt::Quality out = quadopt::verdict_quality(xyz_after, g_cylinder.quads, &per_face);
+    CHECK(in.min == r.input_verdict.min && in.avg == r.input_verdict.avg && in.inverted == r.input_verdict.inverted);
+    CHECK(out.min == r.output_verdict.min && out.avg == r.output_verdict.avg &&
+          out.inverted == r.output_verdict.inverted);
+    CHECK(per_face.size() == g_cylinder.quad_count() &&
+          *std::min_element(per_face.begin(), per_face.end()) == out.min);
+    std::vector<std::uint32_t> bad = g_cylinder.quads;
+    bad[5] = 100000;
+    CHECK_THROWS_STATUS(quadopt::verdict_quality(xyz_after, bad), QUADOPT_STATUS_INDEX_OUT_OF_RANGE);
+  }
   // The flat-vector overload and optimize() with dim 3 (no marked edge) agree bit for bit.
   std::vector<double> a = g_cylinder.xyz, b = g_cylinder.xyz;
   const quadopt::Report ra = quadopt::optimize_surface(a, g_cylinder.quads);

@@ -802,6 +802,28 @@ enum QuadoptStatus quadopt_quality(const double *coords,
                                    size_t per_quad_len);
 
 /**
+ * Verdict's 3D scaled Jacobian of every face of a mesh in 3D, as VTK's vtkMeshQuality,
+ * ParaView and MeshLab compute it (each corner against the face's own centre normal, so it
+ * does not depend on the face's orientation, and a face folded over its neighbours can score
+ * well): statistics into `*out` (required) and, if `per_quad` is not NULL, each face's value
+ * into `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). The measure a run
+ * reports as `input_verdict` and `output_verdict`. `coords` holds `3 * vertex_count` doubles
+ * (planar or not), `quads` as in `quadopt_optimize()` (triangles included). Nothing is written
+ * on error.
+ *
+ * # Safety
+ * Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
+ * duration of the call; `per_quad` and `out` must not overlap the inputs.
+ */
+enum QuadoptStatus quadopt_verdict_quality(const double *coords,
+                                           size_t vertex_count,
+                                           const uint32_t *quads,
+                                           size_t quad_count,
+                                           struct QuadoptQuality *out,
+                                           double *per_quad,
+                                           size_t per_quad_len);
+
+/**
  * Optimizes a mesh on a curved surface in 3D in place: moves the vertices on the input
  * surface to raise the faces' scaled Jacobians, keeping connectivity, fixed vertices and the
  * feature curves. On any error, cancellation included, neither `coords` nor `report` is

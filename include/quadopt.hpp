@@ -440,6 +440,29 @@ inline Quality quality(const std::vector<double> &coords, std::uint32_t dim, con
                  detail::quad_count(quads.size()), per_quad);
 }
 
+/// Verdict's 3D scaled Jacobian of a mesh in 3D (3 doubles per vertex), as VTK, ParaView and
+/// MeshLab compute it: statistics over every face, and each face's value in `per_face`
+/// (resized to the face count) when it is given. The measure of a report's input_verdict and
+/// output_verdict. Throws Error on an invalid mesh.
+inline Quality verdict_quality(const double *xyz, std::size_t vertex_count, const std::uint32_t *faces,
+                               std::size_t face_count, std::vector<double> *per_face = nullptr) {
+  Quality q{};
+  std::vector<double> values(per_face ? face_count : 0);
+  check(quadopt_verdict_quality(xyz, vertex_count, faces, face_count, &q, per_face ? values.data() : nullptr,
+                                values.size()));
+  if (per_face) {
+    per_face->swap(values);  // only on success: on error *per_face is untouched
+  }
+  return q;
+}
+
+/// verdict_quality() on vectors.
+inline Quality verdict_quality(const std::vector<double> &xyz, const std::vector<std::uint32_t> &faces,
+                               std::vector<double> *per_face = nullptr) {
+  return verdict_quality(xyz.data(), detail::vertex_count(xyz.size(), 3), faces.data(),
+                         detail::quad_count(faces.size()), per_face);
+}
+
 /// Quality statistics of a mesh's quads and of its triangles apart (count, min, avg of each,
 /// the same numbers as a report's input_quads and input_triangles for these coordinates).
 /// Throws Error on an invalid mesh.

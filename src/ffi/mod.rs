@@ -101,7 +101,7 @@ pub use options::{
 };
 pub use plane::{QuadoptPlanarity, quadopt_is_planar};
 pub use report::{QuadoptFaceKindQuality, QuadoptQuality, QuadoptReport, quadopt_report_init};
-pub use run::{quadopt_optimize, quadopt_quality, run_bytes, topology_bytes};
+pub use run::{quadopt_optimize, quadopt_quality, quadopt_verdict_quality, run_bytes, topology_bytes};
 pub use status::{QuadoptStatus, quadopt_last_error, quadopt_status_string};
 pub use surface::quadopt_optimize_surface;
 pub use version::{

@@ -323,6 +323,70 @@ pub unsafe extern "C" fn quadopt_quality(
     })
 }
 
+/// Verdict's 3D scaled Jacobian of every face of a mesh in 3D, as VTK's vtkMeshQuality,
+/// ParaView and MeshLab compute it (each corner against the face's own centre normal, so it
+/// does not depend on the face's orientation, and a face folded over its neighbours can score
+/// well): statistics into `*out` (required) and, if `per_quad` is not NULL, each face's value
+/// into `per_quad[0..quad_count]` (`per_quad_len` must be >= `quad_count`). The measure a run
+/// reports as `input_verdict` and `output_verdict`. `coords` holds `3 * vertex_count` doubles
+/// (planar or not), `quads` as in `quadopt_optimize()` (triangles included). Nothing is written
+/// on error.
+///
+/// # Safety
+/// Every non-NULL pointer must point to (aligned) memory of the size described, valid for the
+/// duration of the call; `per_quad` and `out` must not overlap the inputs.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn quadopt_verdict_quality(
+    coords: *const f64,
+    vertex_count: usize,
+    quads: *const u32,
+    quad_count: usize,
+    out: *mut QuadoptQuality,
+    per_quad: *mut f64,
+    per_quad_len: usize,
+) -> QuadoptStatus {
+    boundary("quadopt_verdict_quality", || {
+        require_non_null(out.cast_const(), "out")?;
+        if !per_quad.is_null() {
+            if per_quad_len < quad_count {
+                return Err(FfiError::new(
+                    QuadoptStatus::InvalidArgument,
+                    format!("per_quad_len is {per_quad_len}, smaller than quad_count = {quad_count}"),
+                ));
+            }
+            require_non_null(per_quad.cast_const(), "per_quad")?;
+            check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
+        }
+        // SAFETY: forwarded from this function's contract.
+        let points = unsafe { super::boundary::read_points_3d_flat(coords, vertex_count) }?;
+        // SAFETY: forwarded from this function's contract.
+        let faces = unsafe { super::boundary::read_quads_checked(quads, quad_count) }?;
+        if faces.is_empty() {
+            return Err(Error::NoQuads.into());
+        }
+        crate::mesh::validate_indices(faces, vertex_count, true)?;
+        if let Some(v) = points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+            return Err(Error::NonFiniteCoordinate { vertex: v }.into());
+        }
+        let mut values = crate::alloc::try_with_capacity(faces.len(), "per-face values")?;
+        let at = |v: u32| glam::DVec3::from_array(points[v as usize]);
+        // A triangle's fourth corner repeats its third, as `quality3d::corners` gives it.
+        values.extend(faces.iter().map(|f| {
+            let d = crate::face::fourth_corner(f);
+            crate::quality3d::verdict_scaled_jacobian(&[at(f[0]), at(f[1]), at(f[2]), at(d)])
+        }));
+        let stats = quality_of(&QualityStats::from_values(&values));
+        // SAFETY: as in quadopt_quality.
+        unsafe {
+            if !per_quad.is_null() {
+                std::ptr::copy_nonoverlapping(values.as_ptr(), per_quad, values.len());
+            }
+            out.write(stats);
+        }
+        Ok(())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -489,6 +553,69 @@ mod tests {
             assert_eq!(s, QuadoptStatus::IndexOutOfRange);
         }
         assert_eq!((q3.min, per), (9.0, [7.0; 2]));
+    }
+
+    #[test]
+    fn verdict_quality_matches_hand_computed_values() {
+        // In 3D: a unit square in z = 0 (1), the same square with corner 3 lifted to z = 1
+        // (its value by Verdict's definition, computed below) and an equilateral triangle (1).
+        let h = 3f64.sqrt() / 2.0;
+        let coords = [
+            0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, // the flat square
+            0.0, 1.0, 1.0, // corner 3 lifted: vertex 4
+            0.0, 0.0, 5.0, 1.0, 0.0, 5.0, 0.5, h, 5.0, // the triangle
+        ];
+        let faces = [0, 1, 2, 3, 0, 1, 2, 4, 5, 6, 7, crate::face::NO_VERTEX];
+        let mut q = QuadoptQuality::default();
+        let mut per = [f64::NAN; 4];
+        // SAFETY: live buffers; per has room for 4 >= 3 values.
+        let status =
+            unsafe { quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q, per.as_mut_ptr(), 4) };
+        assert_eq!(status, QuadoptStatus::Ok, "{}", last_error());
+        assert_eq!(per[0], 1.0);
+        // The bent square by Verdict's definition: the centre normal is the cross product of
+        // the diagonals, each corner the triple product of its edges and that normal over
+        // their lengths; the smallest of the four.
+        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 1.0]].map(glam::DVec3::from_array);
+        let n = (p[2] - p[0]).cross(p[3] - p[1]).normalize();
+        let corner = |k: usize| {
+            let (a, b) = (p[(k + 1) % 4] - p[k], p[(k + 3) % 4] - p[k]);
+            a.cross(b).dot(n) / (a.length() * b.length())
+        };
+        let bent = (0..4).map(corner).fold(f64::INFINITY, f64::min);
+        assert!(bent > 0.5 && bent < 0.9 && (per[1] - bent).abs() < 1e-12, "{} against {bent}", per[1]);
+        assert!((per[2] - 1.0).abs() < 1e-12, "{}", per[2]);
+        assert!(per[3].is_nan(), "beyond quad_count was written");
+        assert_eq!((q.min, q.inverted), (per[1], 0));
+        // Reversed, every face scores the same.
+        let reversed = [0, 3, 2, 1, 0, 4, 2, 1, 5, 7, 6, crate::face::NO_VERTEX];
+        let mut again = [f64::NAN; 3];
+        let mut q2 = QuadoptQuality::default();
+        // SAFETY: live buffers.
+        let status = unsafe {
+            quadopt_verdict_quality(coords.as_ptr(), 8, reversed.as_ptr(), 3, &mut q2, again.as_mut_ptr(), 3)
+        };
+        assert_eq!(status, QuadoptStatus::Ok);
+        assert_eq!(again, per[..3]);
+        // Errors write nothing.
+        let mut q3 = QuadoptQuality { min: 9.0, ..Default::default() };
+        let mut out = [7.0; 3];
+        let mut nan = coords;
+        nan[4] = f64::NAN;
+        // SAFETY: live buffers; the calls fail on the checks.
+        unsafe {
+            let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 2);
+            assert_eq!(s, QuadoptStatus::InvalidArgument);
+            let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, null_mut(), null_mut(), 0);
+            assert_eq!(s, QuadoptStatus::NullPointer);
+            let s = quadopt_verdict_quality(coords.as_ptr(), 7, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 3);
+            assert_eq!(s, QuadoptStatus::IndexOutOfRange);
+            let s = quadopt_verdict_quality(nan.as_ptr(), 8, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 3);
+            assert_eq!(s, QuadoptStatus::NonFiniteCoordinate);
+            let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 0, &mut q3, out.as_mut_ptr(), 3);
+            assert_eq!(s, QuadoptStatus::NoQuads);
+        }
+        assert_eq!((q3.min, out), (9.0, [7.0; 3]));
     }
 
     /// Threads of this process.

@@ -456,6 +456,17 @@ unsafe extern "C" {
     ) -> QuadoptStatus;
 }
 unsafe extern "C" {
+    pub fn quadopt_verdict_quality(
+        coords: *const f64,
+        vertex_count: usize,
+        quads: *const u32,
+        quad_count: usize,
+        out: *mut QuadoptQuality,
+        per_quad: *mut f64,
+        per_quad_len: usize,
+    ) -> QuadoptStatus;
+}
+unsafe extern "C" {
     pub fn quadopt_optimize_surface(
         coords: *mut f64,
         vertex_count: usize,

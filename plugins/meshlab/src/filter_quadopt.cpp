@@ -269,10 +269,9 @@ std::map<std::string, QVariant> QuadoptFilterPlugin::optimize(const RichParamete
     before = xyz;
     after = xyz;
     r = quadopt::optimize_surface(after.data(), n, poly.faces.data(), faces, fixed_ptr, nullptr, 0, options);
-    // On a surface each face is measured against the output mesh's own surface, as
-    // `quadopt quality` measures a mesh file (the report's signed values are against the input
-    // surface and differ from these in the last digits of a few faces).
-    quadopt::quality(after.data(), 3, n, poly.faces.data(), faces, &per_face);
+    // On a surface, Verdict's 3D scaled Jacobian: what MeshLab's own quality filters, VTK and
+    // ParaView compute, and the report's output_verdict face by face.
+    quadopt::verdict_quality(after.data(), n, poly.faces.data(), faces, &per_face);
   }
   if (per_face.size() != faces) throw quadopt_meshlab::MeshError("quadopt returned no per-face quality");
 

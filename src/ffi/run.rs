@@ -569,14 +569,16 @@ mod tests {
         let mut q = QuadoptQuality::default();
         let mut per = [f64::NAN; 4];
         // SAFETY: live buffers; per has room for 4 >= 3 values.
-        let status =
-            unsafe { quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q, per.as_mut_ptr(), 4) };
+        let status = unsafe {
+            quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q, per.as_mut_ptr(), 4)
+        };
         assert_eq!(status, QuadoptStatus::Ok, "{}", last_error());
         assert_eq!(per[0], 1.0);
         // The bent square by Verdict's definition: the centre normal is the cross product of
         // the diagonals, each corner the triple product of its edges and that normal over
         // their lengths; the smallest of the four.
-        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 1.0]].map(glam::DVec3::from_array);
+        let p =
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 1.0]].map(glam::DVec3::from_array);
         let n = (p[2] - p[0]).cross(p[3] - p[1]).normalize();
         let corner = |k: usize| {
             let (a, b) = (p[(k + 1) % 4] - p[k], p[(k + 3) % 4] - p[k]);
@@ -604,15 +606,18 @@ mod tests {
         nan[4] = f64::NAN;
         // SAFETY: live buffers; the calls fail on the checks.
         unsafe {
-            let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 2);
+            let s =
+                quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 2);
             assert_eq!(s, QuadoptStatus::InvalidArgument);
             let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 3, null_mut(), null_mut(), 0);
             assert_eq!(s, QuadoptStatus::NullPointer);
-            let s = quadopt_verdict_quality(coords.as_ptr(), 7, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 3);
+            let s =
+                quadopt_verdict_quality(coords.as_ptr(), 7, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 3);
             assert_eq!(s, QuadoptStatus::IndexOutOfRange);
             let s = quadopt_verdict_quality(nan.as_ptr(), 8, faces.as_ptr(), 3, &mut q3, out.as_mut_ptr(), 3);
             assert_eq!(s, QuadoptStatus::NonFiniteCoordinate);
-            let s = quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 0, &mut q3, out.as_mut_ptr(), 3);
+            let s =
+                quadopt_verdict_quality(coords.as_ptr(), 8, faces.as_ptr(), 0, &mut q3, out.as_mut_ptr(), 3);
             assert_eq!(s, QuadoptStatus::NoQuads);
         }
         assert_eq!((q3.min, out), (9.0, [7.0; 3]));

@@ -303,6 +303,7 @@ impl SurfaceOptimizer {
             corners: self.features.roles().iter().filter(|r| **r == VertexRole::Corner).count(),
             movable: self.motion.iter().filter(|m| **m != Motion::Still).count(),
             fidelity: self.fidelity_to_caller(end.fidelity),
+            output_values: end.values,
         })
     }
 

@@ -80,6 +80,8 @@ pub struct SurfaceReport {
     pub movable: usize,
     /// Distances of the output from the input surface and feature curves.
     pub fidelity: SurfaceFidelity,
+    /// The signed value of each face of the output, in face order (what `output` summarizes).
+    pub output_values: Vec<f64>,
 }
 
 /// The quality of a placement of a mesh against its input surface

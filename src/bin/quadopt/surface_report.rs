@@ -5,7 +5,7 @@ use crate::json::{by_kind_json, stats_json};
 use crate::plural::count;
 use quadopt::QualityStats;
 use quadopt::io::MeshData;
-use quadopt::surface::{SurfaceFidelity, SurfaceMeasure, SurfaceOptimizer, SurfaceReport, VertexRole};
+use quadopt::surface::{SurfaceFidelity, SurfaceOptimizer, SurfaceReport, VertexRole};
 use serde_json::{Value, json};
 
 /// The distances as JSON.
@@ -92,8 +92,8 @@ pub fn print_fidelity(f: &SurfaceFidelity) {
 
 /// Adds what viewers colour by to `data`: each face's signed scaled Jacobian, the fixed flags
 /// and the corners (feature corners and fixed vertices).
-pub fn annotate(data: &mut MeshData, optimizer: &SurfaceOptimizer, measure: &SurfaceMeasure, fixed: &[bool]) {
-    data.quality = Some(measure.values.clone());
+pub fn annotate(data: &mut MeshData, optimizer: &SurfaceOptimizer, values: &[f64], fixed: &[bool]) {
+    data.quality = Some(values.to_vec());
     data.fixed = Some(fixed.to_vec());
     data.corner = Some(optimizer.features().roles().iter().map(|r| *r == VertexRole::Corner).collect());
 }

@@ -217,7 +217,6 @@ fn optimize_surface(
     let setup_seconds = setup.elapsed().as_secs_f64();
     let before = out.picture.map(|_| surface.clone());
     let report = run_surface(&optimizer, &mut surface, options, !out.as_json)?;
-    let measure = optimizer.measure(surface.points())?;
     if let (Some((path, format)), Some(before)) = (out.picture, &before) {
         let title = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let headings = [
@@ -226,7 +225,7 @@ fn optimize_surface(
         ];
         let p = picture::surface::before_after(
             (before, &optimizer.measure(before.points())?.values),
-            (&surface, &measure.values),
+            (&surface, &report.output_values),
             &title,
             headings.each_ref().map(String::as_str),
         );
@@ -240,7 +239,8 @@ fn optimize_surface(
             moved += 1;
         }
     }
-    surface_report::annotate(&mut data, &optimizer, &measure, surface.fixed());
+    // The run's own values of its output: what its report summarizes.
+    surface_report::annotate(&mut data, &optimizer, &report.output_values, surface.fixed());
     out.encoding.apply(&mut data);
     out.writer.write(out.path, &data)?;
     report_on_stderr_if_written_to_stdout(out.path);

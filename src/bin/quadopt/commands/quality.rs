@@ -72,7 +72,7 @@ pub fn quality(
             let optimizer = SurfaceOptimizer::new(base, Options::default().feature_angle_deg, &[])
                 .map_err(|e| Fail::Other(format!("{}: {e}", input.display())))?;
             let measure = optimizer.measure(mesh.points())?;
-            surface_report::annotate(&mut data, &optimizer, &measure, mesh.fixed());
+            surface_report::annotate(&mut data, &optimizer, &measure.values, mesh.fixed());
             let values = measure.values.clone();
             surface = Some(measure);
             (data, mesh.faces().to_vec(), values)

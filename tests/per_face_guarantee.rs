@@ -221,11 +221,13 @@ fn planar_quads_never_fall_below_their_own_bounds() {
             let what = format!("case {case} {effort:?} guard {}", options.guard);
             assert_per_face(&what, &input_values, &output);
             assert_eq!(mesh.points()[pin], points[pin]);
-            // The free part improves: inversions go or the average rises (not asserted for
-            // `fast`, which can still return such an input unchanged: NOTES.md).
-            let progress =
-                report.output.inverted < report.input.inverted || report.output.avg > report.input.avg;
-            assert!(progress || effort == Effort::Fast, "{what}: {:?} -> {:?}", report.input, report.output);
+            // The free part improves: the output ranks better (fewer inversions, else a higher
+            // minimum, else a higher average). Not asserted for `fast` without the guard, whose
+            // unguarded sweeps can leave nothing better than the input.
+            let (i, o) = (&report.input, &report.output);
+            let progress = o.inverted < i.inverted
+                || (o.inverted == i.inverted && (o.min > i.min || (o.min == i.min && o.avg > i.avg)));
+            assert!(progress || (effort == Effort::Fast && !options.guard), "{what}: {i:?} -> {o:?}");
         }
     }
 }

@@ -421,10 +421,11 @@ struct OnPolyline {
     t: f64,
 }
 
-/// Puts back at their `original` positions the moved vertices of every quad below
-/// min(its input value, `floor`) (`input_values`), and then of every quad that this leaves
-/// below, until none is: at worst the input, where every quad has its input value. Returns how
-/// many vertices went back.
+/// Puts back at their `original` positions moved vertices of every quad below min(its input
+/// value, `floor`) (`input_values`): one, where that mends the quad and leaves no quad of its
+/// star below, else all of them, and then those of every quad this leaves below, until none is
+/// (at worst the input, where every quad has its input value). Returns how many vertices went
+/// back.
 fn restore_below_bounds(
     mesh: &mut Mesh,
     original: &[DVec2],
@@ -441,6 +442,24 @@ fn restore_below_bounds(
     let mut restored = 0;
     while let Some(f) = pending.pop() {
         if !below(points, f) {
+            continue;
+        }
+        // One vertex back, the first that mends the quad without putting another quad of its
+        // star below: the rest of the run's progress stays (restoring every moved vertex of a
+        // quad leaves its neighbours half restored, and that cascaded to the whole input).
+        let single = crate::face::vertices(&quads[f]).iter().map(|&v| v as usize).find(|&v| {
+            if points[v] == original[v] {
+                return false;
+            }
+            let kept = points[v];
+            points[v] = original[v];
+            let mended = topo.vertex_quads(v).iter().all(|&g| !below(points, g as usize));
+            points[v] = kept;
+            mended
+        });
+        if let Some(v) = single {
+            points[v] = original[v];
+            restored += 1;
             continue;
         }
         for &v in crate::face::vertices(&quads[f]) {
@@ -503,6 +522,16 @@ mod tests {
             let want = if v == 18 { DVec2::new(3.0, 3.001) } else { was };
             assert_eq!(m.points()[v], want, "vertex {v}");
         }
+        // Two moved vertices of the quads below: putting back the one that broke them is
+        // enough, and the other keeps its move.
+        let mut two = grid(4, 4);
+        let moved = [(6, DVec2::new(1.3, 1.2)), (7, DVec2::new(2.0, 1.002))];
+        for (v, p) in moved {
+            two.points_mut()[v] = p;
+        }
+        assert!(two.quality_values().iter().zip(&input_values).any(|(q, i)| *q < i.min(0.99)));
+        assert_eq!(restore_below_bounds(&mut two, &original, &topo, &input_values, 0.99), 1);
+        assert_eq!((two.points()[6], two.points()[7]), (original[6], DVec2::new(2.0, 1.002)));
         // Every quad at or above min(input, floor): nothing changes.
         let before = m.points().to_vec();
         assert_eq!(restore_below_bounds(&mut m, &original, &topo, &input_values, 0.9995), 0);

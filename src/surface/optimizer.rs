@@ -729,30 +729,76 @@ impl SurfaceOptimizer {
         curve_tolerance: Option<f64>,
     ) -> usize {
         let initial = self.initial_state();
+        let surface = self.surface();
         let mut restored = 0;
-        let restore = |state: &mut State, v: usize| {
-            if state.points[v] == initial.points[v] {
-                return false;
+        // Vertex v back at its input (its position, arclength, hint and the normals of its
+        // corners), returning what it replaced; `put` undoes it with that.
+        type Saved = (DVec3, f64, u32, Vec<(usize, usize, DVec3)>);
+        let swap = |state: &mut State, v: usize, to: &Saved| -> Saved {
+            let was = (state.points[v], state.params[v], state.hints[v], {
+                let mut corners = Vec::new();
+                for &g in self.topo.vertex_quads(v) {
+                    let g = g as usize;
+                    for (k, &u) in corner_vertices(&self.faces[g]).iter().enumerate() {
+                        if u as usize == v {
+                            corners.push((g, k, state.normals[g][k]));
+                        }
+                    }
+                }
+                corners
+            });
+            (state.points[v], state.params[v], state.hints[v]) = (to.0, to.1, to.2);
+            for &(g, k, n) in &to.3 {
+                state.normals[g][k] = n;
             }
-            state.points[v] = initial.points[v];
-            state.params[v] = initial.params[v];
-            state.hints[v] = initial.hints[v];
+            was
+        };
+        let input_of = |v: usize| -> Saved {
+            let mut corners = Vec::new();
             for &g in self.topo.vertex_quads(v) {
                 let g = g as usize;
                 for (k, &u) in corner_vertices(&self.faces[g]).iter().enumerate() {
                     if u as usize == v {
-                        state.normals[g][k] = initial.normals[g][k];
+                        corners.push((g, k, initial.normals[g][k]));
                     }
                 }
             }
+            (initial.points[v], initial.params[v], initial.hints[v], corners)
+        };
+        let restore = |state: &mut State, v: usize| {
+            if state.points[v] == initial.points[v] {
+                return false;
+            }
+            swap(state, v, &input_of(v));
             true
+        };
+        let within = |state: &State, f: usize| {
+            surface.face_value(state, f, None) >= bounds[f].signed
+                && surface.face_verdict(state, f, None) >= bounds[f].verdict
         };
         loop {
             let values = self.values(state);
             let verdicts = self.verdicts(&state.points);
             let mut changed = false;
             for (f, b) in bounds.iter().enumerate() {
-                if values[f] >= b.signed && verdicts[f] >= b.verdict {
+                if values[f] >= b.signed && verdicts[f] >= b.verdict || within(state, f) {
+                    continue;
+                }
+                // One vertex back, the first that mends the face without putting another face
+                // of its star below (the rest of the run's progress stays), else all of them.
+                let single = crate::face::vertices(&self.faces[f]).iter().map(|&v| v as usize).find(|&v| {
+                    if state.points[v] == initial.points[v] {
+                        return false;
+                    }
+                    let was = swap(state, v, &input_of(v));
+                    let mended = self.topo.vertex_quads(v).iter().all(|&g| within(state, g as usize));
+                    swap(state, v, &was);
+                    mended
+                });
+                if let Some(v) = single {
+                    restore(state, v);
+                    restored += 1;
+                    changed = true;
                     continue;
                 }
                 for &v in crate::face::vertices(&self.faces[f]) {

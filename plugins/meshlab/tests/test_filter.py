@@ -121,6 +121,43 @@ def read_vtk_plain(path):
     return pts, faces, arrays
 
 
+def verdict_plain(pts, faces):
+    """Verdict's scaled Jacobian of each face, in plain Python (its definition: a quad's
+    corners, each the triple product of its two edges with the quad's centre normal over
+    their lengths, the smallest; a triangle's, 2/sqrt(3) times the sine of its smallest
+    corner, capped at 1)."""
+    def sub(a, b):
+        return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    def dot(a, b):
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    def norm(a):
+        return dot(a, a) ** 0.5
+
+    out = []
+    for c in faces:
+        p = [pts[v] for v in c]
+        if len(c) == 3:
+            e = [sub(p[1], p[0]), sub(p[2], p[1]), sub(p[0], p[2])]
+            area2 = norm(cross(e[0], e[2]))
+            lengths = [norm(x) for x in e]
+            prod = max(lengths[0] * lengths[2], lengths[1] * lengths[0], lengths[2] * lengths[1])
+            out.append(min(1.0, 2.0 / 3.0 ** 0.5 * area2 / prod) if prod > 0 else 0.0)
+            continue
+        n = cross(sub(p[2], p[0]), sub(p[3], p[1]))
+        n = [x / norm(n) for x in n]
+        vals = []
+        for k in range(4):
+            a, b = sub(p[(k + 1) % 4], p[k]), sub(p[(k + 3) % 4], p[k])
+            vals.append(dot(cross(a, b), n) / (norm(a) * norm(b)))
+        out.append(min(vals))
+    return out
+
+
 def read_vtk(path):
     """read_vtk_plain() with numpy arrays."""
     import numpy as np
@@ -242,27 +279,7 @@ def inner(plugin, cli):
         return np.array(out)
 
     def verdict_values(pts, faces):
-        """Verdict's scaled Jacobian of each face (its definition: a quad's corners, each the
-        triple product of its two edges with the quad's centre normal over their lengths, the
-        smallest; a triangle's, 2/sqrt(3) times the sine of its smallest corner, capped at 1)."""
-        out = []
-        for c in faces:
-            p = np.asarray(pts, dtype=np.float64)[c]
-            if len(c) == 3:
-                e = [p[1] - p[0], p[2] - p[1], p[0] - p[2]]
-                area2 = np.linalg.norm(np.cross(e[0], -e[2]))
-                lengths = [np.linalg.norm(x) for x in e]
-                prods = [lengths[0] * lengths[2], lengths[1] * lengths[0], lengths[2] * lengths[1]]
-                out.append(min(1.0, 2.0 / np.sqrt(3.0) * area2 / max(prods)) if max(prods) > 0 else 0.0)
-                continue
-            n = np.cross(p[2] - p[0], p[3] - p[1])
-            n = n / np.linalg.norm(n)
-            vals = []
-            for k in range(4):
-                a, b = p[(k + 1) % 4] - p[k], p[(k + 3) % 4] - p[k]
-                vals.append(np.dot(np.cross(a, b), n) / (np.linalg.norm(a) * np.linalg.norm(b)))
-            out.append(min(vals))
-        return np.array(out)
+        return np.array(verdict_plain([list(map(float, p)) for p in pts], faces))
 
     def same(a, b):
         a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)

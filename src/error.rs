@@ -59,7 +59,9 @@ pub enum Error {
     /// An option is out of its valid range.
     #[error("invalid option {name}: {reason}")]
     InvalidOption { name: &'static str, reason: String },
-    /// The vertices do not lie in one plane (curved surface meshes are not supported).
+    /// The vertices do not lie in one plane by the library's planarity rule (`io::PlanarFrame::fit`):
+    /// given to a planar-only entry point (a planar `Mesh`, the reusable C handle), a mesh on a
+    /// curved surface, which the surface optimizer takes (`surface::SurfaceOptimizer`).
     #[error(
         "the mesh is not planar: vertex {vertex} is {distance:e} away from the best-fit plane (tolerance {tolerance:e}; \
          vertex numbers are 0-based)"

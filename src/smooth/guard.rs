@@ -1,5 +1,7 @@
 //! Guarded moves: a vertex whose star (its incident quads) is valid may not move to a place
-//! that lowers its star's minimum scaled Jacobian below min(current value, floor).
+//! that lowers any quad of its star below min(that quad's current value, floor). (A rule on
+//! the star's minimum alone let a star holding one bad quad lower its other quads to that
+//! quad's value.)
 //!
 //! The paper's method ignores where v may go without folding its star, so on graded and
 //! anisotropic meshes it can lower the minimum quality or create inversions (docs/method.md,
@@ -240,12 +242,12 @@ pub fn guarded_position(
     if star_at_least(points, quads, topo, v, target, floor) {
         return target;
     }
-    let current = star_min(points, quads, topo, v, p);
+    let here = StarValues::at(points, quads, topo, v, p);
+    let current = here.min();
     if current <= 0.0 {
         return target;
     }
-    let required = current.min(floor);
-    if let Some(q) = longest_step(points, quads, topo, v, target, |m| m >= required) {
+    if let Some(q) = longest_step(p, target, |at| here.kept_at(points, quads, topo, v, at, floor)) {
         return q;
     }
     if current >= PERFECT {
@@ -253,30 +255,61 @@ pub fn guarded_position(
         return p;
     }
     super::untangle::untangle_vertex(points, quads, topo, v)
-        .and_then(|t| longest_step(points, quads, topo, v, t, |m| m > current))
+        .and_then(|t| {
+            longest_step(p, t, |at| {
+                star_min(points, quads, topo, v, at) > current
+                    && here.kept_at(points, quads, topo, v, at, floor)
+            })
+        })
         .unwrap_or(p)
 }
 
-/// The first of p + d, p + d/2, p + d/4, ... (d = target - p) whose star minimum satisfies
-/// `accept`.
-fn longest_step(
-    points: &[DVec2],
-    quads: &[[u32; 4]],
-    topo: &Topology,
-    v: usize,
-    target: DVec2,
-    accept: impl Fn(f64) -> bool,
-) -> Option<DVec2> {
-    let p = points[v];
+/// The first of p + d, p + d/2, p + d/4, ... (d = target - p) that `accept` takes.
+fn longest_step(p: DVec2, target: DVec2, accept: impl Fn(DVec2) -> bool) -> Option<DVec2> {
     let mut step = target - p;
     for _ in 0..=MAX_HALVINGS {
         let candidate = p + step;
-        if accept(star_min(points, quads, topo, v, candidate)) {
+        if accept(candidate) {
             return Some(candidate);
         }
         step *= 0.5;
     }
     None
+}
+
+/// The scaled Jacobians of a vertex's star at one position (in `Topology::vertex_quads`
+/// order), to test a move against face by face: the per-face rule of the guard.
+pub struct StarValues {
+    values: Vec<f64>,
+}
+
+impl StarValues {
+    /// The values of the quads around `v` with `v` at `at`.
+    pub fn at(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize, at: DVec2) -> StarValues {
+        StarValues { values: star_quads(points, quads, topo, v, at).map(|c| scaled_jacobian(&c)).collect() }
+    }
+
+    /// The smallest (infinity for no quad).
+    pub fn min(&self) -> f64 {
+        self.values.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether every quad around `v` with `v` at `at` is at or above min(its value here,
+    /// `floor`): no quad falls below the floor, and none already below it falls further. A
+    /// star with one bad quad no longer lets its other quads fall to that quad's value.
+    pub fn kept_at(
+        &self,
+        points: &[DVec2],
+        quads: &[[u32; 4]],
+        topo: &Topology,
+        v: usize,
+        at: DVec2,
+        floor: f64,
+    ) -> bool {
+        star_quads(points, quads, topo, v, at)
+            .zip(&self.values)
+            .all(|(c, &here)| !scaled_jacobian_below(&c, here.min(floor)))
+    }
 }
 
 #[cfg(test)]
@@ -295,6 +328,34 @@ mod tests {
         let m = Mesh::new(p, vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]], None).unwrap();
         let t = Topology::new(&m);
         (m, t)
+    }
+
+    #[test]
+    fn a_bad_quad_in_the_star_does_not_let_the_others_fall_to_its_value() {
+        // The centre's star: quad 0 poor (corner 0 dragged towards the centre), the
+        // others squares. Targets for the centre along the diagonal towards corner 8: each
+        // keeps the star's minimum at quad 0's value (the old rule's bar) while the far quad
+        // sinks below the floor; the guard must not take one.
+        let (mut m, t) = grid_2x2();
+        m.points_mut()[0] = DVec2::new(0.45, 0.45);
+        let floor = 0.5;
+        let here = StarValues::at(m.points(), m.quads(), &t, 4, m.points()[4]);
+        let bad = here.min();
+        assert!(bad > 0.0 && bad < 0.3, "{bad}");
+        let mut tested = 0;
+        for k in 1..40 {
+            let target = DVec2::new(1.0, 1.0) + DVec2::splat(0.02 * f64::from(k));
+            let values = StarValues::at(m.points(), m.quads(), &t, 4, target);
+            let far = values.values[3];
+            if !(values.min() >= bad && far < floor) {
+                continue;
+            }
+            tested += 1;
+            let at = guarded_position(m.points(), m.quads(), &t, 4, target, floor);
+            assert_ne!(at, target, "target {target}: the far quad at {far}");
+            assert!(here.kept_at(m.points(), m.quads(), &t, 4, at, floor), "{at}");
+        }
+        assert!(tested >= 3, "{tested}");
     }
 
     #[test]

@@ -228,9 +228,9 @@ pub struct Options {
     /// A boundary vertex whose turning angle differs from 180 degrees by more than this is a
     /// corner and never moves, in degrees within [0, 180]. Default: 45.
     pub feature_angle_deg: f64,
-    /// Guarded moves: a vertex with a valid star may not lower its star's minimum scaled
-    /// Jacobian below min(current, floor), where the floor is the larger of `guard_floor` and
-    /// the input's minimum scaled Jacobian (so a valid mesh's worst quad never gets worse).
+    /// Guarded moves: a vertex with a valid star may not lower any face of its star below
+    /// min(that face's current value, floor), where the floor is the larger of `guard_floor`
+    /// and the input's minimum scaled Jacobian (so a valid mesh's worst quad never gets worse).
     /// Default: true.
     pub guard: bool,
     /// The guard's floor, in (0, 1]. Default: 0.05.

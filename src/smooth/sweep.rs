@@ -520,8 +520,9 @@ impl RunContext<'_> {
         let at_target =
             at_target.unwrap_or_else(|| guard::star_min(points, self.quads, self.topo, v, target));
         let ok = at_target >= self.floor || {
-            let current = guard::star_min(points, self.quads, self.topo, v, p);
-            at_target >= current || current <= 0.0
+            // Face by face, as the interior's guard (guard::StarValues::kept_at).
+            let here = guard::StarValues::at(points, self.quads, self.topo, v, p);
+            here.min() <= 0.0 || here.kept_at(points, self.quads, self.topo, v, target, self.floor)
         };
         if ok { take } else { stay(energy) }
     }

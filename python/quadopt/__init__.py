@@ -23,6 +23,8 @@ for an option out of range, :class:`CancelledError` when the progress callback s
 
 from typing import Any, Callable, Dict, NamedTuple, Optional, Sequence, Union
 
+import numbers
+
 import numpy as np
 
 from . import _quadopt
@@ -156,6 +158,16 @@ def _feature_edges(edges: Any) -> Optional[np.ndarray]:
     return _index_array(a)
 
 
+def _count(value: Any, option: str) -> Optional[int]:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{option}: a whole number is needed, not {type(value).__name__}")
+    if value < 1:
+        raise ValueError(f"invalid option {option}: must be at least 1, not {value}")
+    return int(value)
+
+
 def _name(value: Any, option: str) -> str:
     if not isinstance(value, str):
         raise TypeError(f"{option}: a string is needed, not {type(value).__name__}")
@@ -234,7 +246,7 @@ def optimize(
         method: the interior smoothing: "ep" (embedded polygon), "laplace", "cotan" or "angle".
         feature_angle: degrees; boundary vertices turning by more are corners (never moved), and
             on a surface edges whose faces meet at more are feature edges.
-        max_iterations: the sweep cap (default 1000).
+        max_iterations: the sweep cap (default 1000; a preset may stop sooner by itself).
         threads: worker threads (default: one per core); the result is the same on any number.
         progress: a callable called after every sweep with a :class:`Progress`; returning False
             stops the run (:class:`CancelledError`), and an exception it raises stops the run
@@ -274,8 +286,8 @@ def optimize(
             _name(boundary, "boundary"),
             _name(method, "method"),
             float(feature_angle),
-            max_iterations,
-            threads,
+            _count(max_iterations, "max_iterations"),
+            _count(threads, "threads"),
             bar,
         )
     finally:

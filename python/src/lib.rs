@@ -400,7 +400,7 @@ struct PyProgress {
     pass: usize,
     /// The passes planned (1).
     passes: usize,
-    /// The collective energy after the last sweep (NaN on a surface, and while untangling).
+    /// The collective energy after the last sweep (NaN while untangling and in the max-min stage).
     energy: f64,
     /// The energy's change in the last sweep (NaN where the energy is).
     energy_change: f64,

@@ -296,13 +296,16 @@ def optimize(
     return OptimizeResult(new_points, report, values)
 
 
-def quality(points: Any, faces: Any) -> QualityResult:
+def quality(points: Any, faces: Any, *, reference: Any = None) -> QualityResult:
     """The scaled Jacobian of each face, and the summary ``quadopt quality --json`` prints.
 
     ``points`` and ``faces`` as for :func:`optimize`. A planar mesh gets the signed scaled
     Jacobian (Verdict's definition, signed against the mesh's orientation); a mesh on a curved
     surface gets both measures: the signed one the optimizer ranks by (``values``) and Verdict's
-    3D one (``verdict``).
+    3D one (``verdict``). The signed one is taken against the mesh's own surface, or with
+    ``reference`` (the points of the mesh it was optimized from: the same faces) against that
+    mesh's surface, as ``quadopt quality --reference`` does; the summary then has the distances
+    from it (``surface_fidelity``), and its statistics are those :func:`optimize` reports.
 
     >>> import numpy as np, quadopt
     >>> q = quadopt.quality(np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0.5]]),
@@ -312,7 +315,9 @@ def quality(points: Any, faces: Any) -> QualityResult:
     >>> q.summary["quads"], q.summary["triangles"], q.summary["inverted"]
     (1, 1, 0)
     """
-    values, summary, verdict = _quadopt.quality(_points(points), _faces(faces))
+    faces = _faces(faces)
+    ref = None if reference is None else _points(reference)
+    values, summary, verdict = _quadopt.quality(_points(points), faces, ref)
     return QualityResult(values, summary, verdict)
 
 

@@ -718,32 +718,74 @@ fn optimize<'py>(
 
 /// The quality: see `quadopt.quality`. Returns `(values, summary, verdict values or None)`.
 #[pyfunction]
+#[pyo3(signature = (points, faces, reference=None))]
 fn quality<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyAny>,
     faces: &Bound<'py, PyAny>,
+    reference: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     let input = read_input(points, faces, None)?;
     let n = input.points.len();
-    let measured = py.detach(|| -> Result<_, Error> {
-        match input.place()? {
+    // The reference: the same faces at other positions (the input a mesh was optimized from).
+    let reference = match reference {
+        Some(r) if !r.is_none() => {
+            let r = read_input(r, faces, None)?;
+            if r.points.len() != n {
+                return Err(PyValueError::new_err(format!(
+                    "reference: {} vertices, but the mesh has {n} (the reference has the mesh's faces)",
+                    r.points.len()
+                )));
+            }
+            Some(r)
+        }
+        _ => None,
+    };
+    let measured = py.detach(|| -> PyResult<_> {
+        match input.place().map_err(py_error)? {
             Placed::Planar { mesh, .. } => {
+                if reference.is_some() {
+                    return Err(PyValueError::new_err(
+                        "reference measures a mesh on a curved surface; this mesh is planar",
+                    ));
+                }
                 let values = mesh.quality_values();
                 let summary = quadopt::json::quality_summary(&values, mesh.faces(), n, None);
                 Ok((values, summary, None))
             }
-            // As `quadopt quality` measures a mesh on a curved surface: against its own surface,
-            // with the default feature angle and no marked edge.
+            // As `quadopt quality` measures a mesh on a curved surface: against its own surface
+            // (or the reference's, as `--reference` does), with the default feature angle and no
+            // marked edge.
             Placed::Curved(mesh) => {
-                let optimizer = SurfaceOptimizer::new(&mesh, Options::default().feature_angle_deg, &[])?;
-                let m = optimizer.measure(mesh.points())?;
-                let on_surface = quadopt::json::SurfaceQuality { measure: &m, against_reference: false };
+                let base = match reference {
+                    None => None,
+                    Some(r) => Some(match r.place().map_err(py_error)? {
+                        Placed::Curved(s) => s,
+                        Placed::Planar { mesh: planar, frame } => {
+                            // A planar reference of a curved mesh, as the CLI reads one: in 3D.
+                            let points: Vec<DVec3> = match frame {
+                                Some((p, _)) => p.into_iter().map(DVec3::from_array).collect(),
+                                None => planar.points().iter().map(|p| p.extend(0.0)).collect(),
+                            };
+                            SurfaceMesh::new(points, mesh.faces_as_given(), None).map_err(py_error)?
+                        }
+                    }),
+                };
+                let against_reference = base.is_some();
+                let base = base.as_ref().unwrap_or(&mesh);
+                if base.faces() != mesh.faces() {
+                    return Err(mesh_error("the mesh does not have the faces of the reference".into()));
+                }
+                let optimizer =
+                    SurfaceOptimizer::new(base, Options::default().feature_angle_deg, &[]).map_err(py_error)?;
+                let m = optimizer.measure(mesh.points()).map_err(py_error)?;
+                let on_surface = quadopt::json::SurfaceQuality { measure: &m, against_reference };
                 let summary = quadopt::json::quality_summary(&m.values, mesh.faces(), n, Some(on_surface));
                 Ok((m.values.clone(), summary, Some(m.verdict_values)))
             }
         }
     });
-    let (values, summary, verdict) = measured.map_err(py_error)?;
+    let (values, summary, verdict) = measured?;
     let verdict = match verdict {
         Some(v) => Array1::from(v).into_pyarray(py).into_any(),
         None => py.None().into_bound(py),

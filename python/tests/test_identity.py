@@ -129,3 +129,19 @@ def test_quality_matches_the_cli(tmp_path, sample):
     else:
         assert q.verdict is None
     assert q.values.min() == want["min"]
+
+
+@pytest.mark.parametrize("sample", [p for p in sample_paths() if "surface" in p.stem], ids=lambda p: p.stem)
+def test_quality_against_a_reference_matches_the_cli(tmp_path, sample):
+    points, faces, fixed = read_sample(sample)
+    optimized = quadopt.optimize(points, faces, fixed=fixed).points
+    from helpers import run_cli, write_vtk
+    write_vtk(tmp_path / "ref.vtk", points, faces)
+    write_vtk(tmp_path / "out.vtk", optimized, faces)
+    want = json.loads(run_cli(["quality", tmp_path / "out.vtk", "--reference", tmp_path / "ref.vtk", "--json"]).stdout)
+    got = quadopt.quality(optimized, faces, reference=points)
+    assert json.dumps(stable(got.summary), sort_keys=True) == json.dumps(stable(want), sort_keys=True)
+    assert "surface_fidelity" in got.summary
+    flat, flat_faces = jittered_grid(4, 4, jitter=0.2, seed=1)
+    with pytest.raises(ValueError, match="reference measures a mesh on a curved surface; this mesh is planar"):
+        quadopt.quality(flat, flat_faces, reference=flat)

@@ -53,7 +53,13 @@ pub fn guarantees_json(r: &Report) -> Value {
 
 /// The report of a planar run, as `quadopt optimize --json` prints it without the file names:
 /// `moved` vertices changed position, the mesh has `vertices` vertices and `faces` faces.
-pub fn optimize_report(report: &Report, options: &Options, moved: usize, vertices: usize, faces: usize) -> Value {
+pub fn optimize_report(
+    report: &Report,
+    options: &Options,
+    moved: usize,
+    vertices: usize,
+    faces: usize,
+) -> Value {
     let mut v = json!({
         "input": stats_json(&report.input),
         "output": stats_json(&report.output),
@@ -168,7 +174,12 @@ pub struct SurfaceQuality<'a> {
 /// mesh's `vertices` count and faces, the statistics by face kind for a mesh with triangles,
 /// the histogram of [`histogram`]'s bins, and on a curved surface `"surface": true` and
 /// Verdict's statistics.
-pub fn quality_summary(values: &[f64], faces: &[[u32; 4]], vertices: usize, surface: Option<SurfaceQuality>) -> Value {
+pub fn quality_summary(
+    values: &[f64],
+    faces: &[[u32; 4]],
+    vertices: usize,
+    surface: Option<SurfaceQuality>,
+) -> Value {
     let s = QualityStats::from_values(values);
     let kinds = ByFaceKind::new(faces, values);
     let mut v = stats_json(&s);

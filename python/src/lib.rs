@@ -23,7 +23,9 @@
 //! an exception there cancels the run and is raised once it has stopped.
 
 use numpy::ndarray::{Array1, Array2, ArrayView1, ArrayView2};
-use numpy::{Element, IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    Element, IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyException, PyMemoryError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList};
@@ -147,7 +149,9 @@ fn items_i128<T: Number>(v: ArrayView1<'_, T>, _: ()) -> Vec<i128> {
 /// A 2D integer array as its column count and its values in row order.
 fn read_index_rows(a: &Bound<'_, PyAny>, what: &str) -> PyResult<(usize, Vec<i128>)> {
     let rows = dispatch!(a, PyArray2, [i64, i32, u32, u64, i16, u16, i8, u8], rows_i128);
-    rows.ok_or_else(|| PyTypeError::new_err(format!("{what}: an array of integers is needed, not {}", dtype_name(a))))
+    rows.ok_or_else(|| {
+        PyTypeError::new_err(format!("{what}: an array of integers is needed, not {}", dtype_name(a)))
+    })
 }
 
 /// One vertex index of face `f`, corner `c`: -1 is allowed in the fourth corner only (the
@@ -190,7 +194,11 @@ fn read_faces(a: &Bound<'_, PyAny>, vertex_count: usize) -> PyResult<Vec<[u32; 4
         let (k, values) = read_index_rows(a, "faces")?;
         if k == 0 {
             return Ok(Vec::new()).and_then(|v: Vec<[u32; 4]>| {
-                if values.is_empty() { Ok(v) } else { Err(py_error(Error::UnsupportedFace { face: 0, corners: 0 })) }
+                if values.is_empty() {
+                    Ok(v)
+                } else {
+                    Err(py_error(Error::UnsupportedFace { face: 0, corners: 0 }))
+                }
             });
         }
         return values.chunks(k).enumerate().map(|(f, c)| face(f, c)).collect();
@@ -199,7 +207,10 @@ fn read_faces(a: &Bound<'_, PyAny>, vertex_count: usize) -> PyResult<Vec<[u32; 4
     for (f, item) in a.try_iter()?.enumerate() {
         let item = item?;
         let corners: Vec<i128> = item.extract().map_err(|_| {
-            PyTypeError::new_err(format!("faces: face {f} is not a sequence of integers ({})", type_name(&item)))
+            PyTypeError::new_err(format!(
+                "faces: face {f} is not a sequence of integers ({})",
+                type_name(&item)
+            ))
         })?;
         faces.push(face(f, &corners)?);
     }
@@ -212,8 +223,8 @@ fn read_fixed(a: &Bound<'_, PyAny>, vertex_count: usize) -> PyResult<Vec<bool>> 
         let r = mask.try_readonly().map_err(|e| PyValueError::new_err(e.to_string()))?;
         return Ok(r.as_array().to_vec());
     }
-    let indices = dispatch!(a, PyArray1, [i64, i32, u32, u64, i16, u16, i8, u8], items_i128)
-        .ok_or_else(|| {
+    let indices =
+        dispatch!(a, PyArray1, [i64, i32, u32, u64, i16, u16, i8, u8], items_i128).ok_or_else(|| {
             PyTypeError::new_err(format!(
                 "fixed: a boolean mask or an array of vertex indices is needed, not {}",
                 dtype_name(a)
@@ -297,14 +308,16 @@ fn read_input(
     faces: &Bound<'_, PyAny>,
     fixed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Input> {
-    let u = points
-        .cast::<PyUntypedArray>()
-        .map_err(|_| PyTypeError::new_err(format!("points: a numpy array is needed, not {}", type_name(points))))?;
+    let u = points.cast::<PyUntypedArray>().map_err(|_| {
+        PyTypeError::new_err(format!("points: a numpy array is needed, not {}", type_name(points)))
+    })?;
     let points = match u.shape() {
         [_, 2] => Points::Two(read_points!(points, rows2)?.into_iter().map(DVec2::from_array).collect()),
         [_, 3] => Points::Three(read_points!(points, rows3)?),
         shape => {
-            return Err(PyTypeError::new_err(format!("points: an (n, 2) or (n, 3) array is needed, not {shape:?}")));
+            return Err(PyTypeError::new_err(format!(
+                "points: an (n, 2) or (n, 3) array is needed, not {shape:?}"
+            )));
         }
     };
     let n = points.len();
@@ -326,7 +339,12 @@ impl Input {
         for (f, q) in faces.iter().enumerate() {
             for (c, &v) in quadopt::face::vertices(q).iter().enumerate() {
                 if v as usize >= n {
-                    return Err(Error::IndexOutOfRange { quad: f, corner: c, index: u64::from(v), vertex_count: n });
+                    return Err(Error::IndexOutOfRange {
+                        quad: f,
+                        corner: c,
+                        index: u64::from(v),
+                        vertex_count: n,
+                    });
                 }
             }
         }
@@ -351,7 +369,10 @@ impl Input {
                 match PlanarFrame::fit(&p, Some(&used)) {
                     Ok(frame) => {
                         let flat: Vec<DVec2> = p.iter().map(|&q| frame.to_2d(q)).collect();
-                        Ok(Placed::Planar { mesh: Mesh::with_faces(flat, faces, fixed)?, frame: Some((p, frame)) })
+                        Ok(Placed::Planar {
+                            mesh: Mesh::with_faces(flat, faces, fixed)?,
+                            frame: Some((p, frame)),
+                        })
                     }
                     Err(Error::NotPlanar { .. }) => {
                         // Same size and alignment: the vector is reused, not copied.
@@ -586,7 +607,14 @@ fn run_optimize(
                 }
             };
             let quality = mesh.quality_values();
-            Ok(Some(Outcome { points, dim, report: RunReport::Planar(report, moved), quality, vertices: n, faces }))
+            Ok(Some(Outcome {
+                points,
+                dim,
+                report: RunReport::Planar(report, moved),
+                quality,
+                vertices: n,
+                faces,
+            }))
         }
         Placed::Curved(mut surface) => {
             let n = surface.points().len();
@@ -690,7 +718,8 @@ fn optimize<'py>(
         Some(e) if !e.is_none() => read_feature_edges(e)?,
         _ => Vec::new(),
     };
-    let mut listener = Listener { callback: progress.filter(|c| !c.is_none(py)), error: None, declined: false };
+    let mut listener =
+        Listener { callback: progress.filter(|c| !c.is_none(py)), error: None, declined: false };
     let outcome = py.detach(|| run_optimize(input, marked, &options, threads, &mut listener))?;
     // A KeyboardInterrupt that arrived after the last report is raised now.
     py.check_signals()?;
@@ -703,8 +732,14 @@ fn optimize<'py>(
                 Some(m) => m,
                 None => {
                     let now = out.as_slice();
-                    dispatch!(points, PyArray2, [f64, f32, i64, i32, i16, i8, u64, u32, u16, u8], count_moved, now)
-                        .unwrap_or(0)
+                    dispatch!(
+                        points,
+                        PyArray2,
+                        [f64, f32, i64, i32, i16, i8, u64, u32, u16, u8],
+                        count_moved,
+                        now
+                    )
+                    .unwrap_or(0)
                 }
             };
             quadopt::json::optimize_report(&r, &options, moved, vertices, faces)
@@ -713,7 +748,11 @@ fn optimize<'py>(
             quadopt::json::surface_optimize_report(&r, &options, moved, setup, vertices, faces)
         }
     };
-    Ok((points_array(py, out, dim)?, to_python(py, &report)?, Array1::from(quality).into_pyarray(py).into_any()))
+    Ok((
+        points_array(py, out, dim)?,
+        to_python(py, &report)?,
+        Array1::from(quality).into_pyarray(py).into_any(),
+    ))
 }
 
 /// The quality: see `quadopt.quality`. Returns `(values, summary, verdict values or None)`.
@@ -776,8 +815,8 @@ fn quality<'py>(
                 if base.faces() != mesh.faces() {
                     return Err(mesh_error("the mesh does not have the faces of the reference".into()));
                 }
-                let optimizer =
-                    SurfaceOptimizer::new(base, Options::default().feature_angle_deg, &[]).map_err(py_error)?;
+                let optimizer = SurfaceOptimizer::new(base, Options::default().feature_angle_deg, &[])
+                    .map_err(py_error)?;
                 let m = optimizer.measure(mesh.points()).map_err(py_error)?;
                 let on_surface = quadopt::json::SurfaceQuality { measure: &m, against_reference };
                 let summary = quadopt::json::quality_summary(&m.values, mesh.faces(), n, Some(on_surface));

@@ -76,7 +76,8 @@ pub fn optimize(
     report_on_stderr_if_written_to_stdout(output);
     let mixed = report.output_by_kind.triangle_count > 0;
     if as_json {
-        let mut v = quadopt::json::optimize_report(&report, &options, moved, data.points.len(), data.quads.len());
+        let mut v =
+            quadopt::json::optimize_report(&report, &options, moved, data.points.len(), data.quads.len());
         v["input_file"] = json!(input.display().to_string());
         v["output_file"] = json!(output.display().to_string());
         if let Some(path) = picture {

@@ -880,10 +880,12 @@ fn _last_run_seconds() -> f64 {
     LAST_RUN_SECONDS.get()
 }
 
-/// The version of the Rust library the module was built with.
+/// The version of the Rust library the module was built with (the package's own version is
+/// the same: python/tests/ checks it).
 #[pyfunction]
-fn _library_version() -> &'static str {
-    env!("CARGO_PKG_VERSION")
+fn _library_version() -> String {
+    use quadopt::ffi::{QUADOPT_VERSION_MAJOR, QUADOPT_VERSION_MINOR, QUADOPT_VERSION_PATCH};
+    format!("{QUADOPT_VERSION_MAJOR}.{QUADOPT_VERSION_MINOR}.{QUADOPT_VERSION_PATCH}")
 }
 
 /// The Rust half of `quadopt` (see the package's documentation).

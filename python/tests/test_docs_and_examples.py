@@ -111,3 +111,12 @@ def test_the_plate_example(tmp_path):
     assert np.isclose(q.min(), float(stats["output"]), atol=1e-4) and (q > 0).all()
     png = tmp_path / "out" / "plate_before_after.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+
+
+def test_the_versions_agree():
+    import importlib.metadata
+
+    cargo = (ROOT / "Cargo.toml").read_text()
+    root = re.search(r'^version = "(.*)"', cargo, re.M).group(1)
+    python = re.search(r'^version = "(.*)"', (ROOT / "python" / "Cargo.toml").read_text(), re.M).group(1)
+    assert quadopt.__version__ == root == python == importlib.metadata.version("quadopt")

@@ -21,9 +21,8 @@ used; a ``ValueError``), ``TypeError`` for arrays of the wrong shape or dtype, `
 for an option out of range, :class:`CancelledError` when the progress callback says stop.
 """
 
-from typing import Any, Callable, Dict, NamedTuple, Optional, Sequence, Union
-
 import numbers
+from typing import Any, Callable, Dict, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 

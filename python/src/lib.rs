@@ -190,16 +190,16 @@ fn read_faces(a: &Bound<'_, PyAny>, vertex_count: usize) -> PyResult<Vec<[u32; 4
         }
         Ok(q)
     };
-    if a.cast::<PyUntypedArray>().is_ok() {
+    if let Ok(u) = a.cast::<PyUntypedArray>() {
+        let rows = u.shape().first().copied().unwrap_or(0);
         let (k, values) = read_index_rows(a, "faces")?;
         if k == 0 {
-            return Ok(Vec::new()).and_then(|v: Vec<[u32; 4]>| {
-                if values.is_empty() {
-                    Ok(v)
-                } else {
-                    Err(py_error(Error::UnsupportedFace { face: 0, corners: 0 }))
-                }
-            });
+            // Faces of no vertex (an (m, 0) array), or no face at all.
+            return if rows == 0 {
+                Ok(Vec::new())
+            } else {
+                Err(py_error(Error::UnsupportedFace { face: 0, corners: 0 }))
+            };
         }
         return values.chunks(k).enumerate().map(|(f, c)| face(f, c)).collect();
     }

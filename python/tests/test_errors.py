@@ -81,6 +81,10 @@ def test_a_pentagon_and_other_face_sizes(mesh):
         quadopt.quality(points, polygon)
     with pytest.raises(quadopt.MeshError, match="face 0 has 5 vertices"):
         quadopt.optimize(points, np.zeros((3, 5), dtype=np.int64))
+    with pytest.raises(quadopt.MeshError, match="face 0 has 0 vertices"):
+        quadopt.optimize(points, np.zeros((3, 0), dtype=np.int64))
+    with pytest.raises(quadopt.MeshError, match="the mesh has no quads"):
+        quadopt.optimize(points, np.zeros((0, 0), dtype=np.int64))
 
 
 def test_other_invalid_meshes(mesh):

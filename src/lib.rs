@@ -41,6 +41,8 @@ pub(crate) mod features;
 #[doc(hidden)]
 pub mod ffi;
 pub mod io;
+#[cfg(feature = "json")]
+pub mod json;
 pub(crate) mod mesh;
 pub(crate) mod normalization;
 /// The process's worker pool (its `unsafe`: a published pool pointer that is never freed).

@@ -312,6 +312,18 @@ impl ByFaceKind {
     }
 }
 
+/// The faces of `values` by the bins `quadopt quality` prints: `counts[0]` those at or below 0
+/// (the inverted ones, as [`QualityStats::inverted`] counts them, and NaN), then `counts[k]`
+/// those in `((k - 1) / 10, k / 10]` for k = 1..10.
+pub fn histogram(values: &[f64]) -> [usize; 11] {
+    let mut counts = [0; 11];
+    for &v in values {
+        let bin = if v <= 0.0 || v.is_nan() { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
+        counts[bin] += 1;
+    }
+    counts
+}
+
 /// Whether a quad with corners `c` is valid, degenerate or inverted: its scaled Jacobian
 /// against zero (`None` for NaN).
 #[inline]

@@ -1,56 +1,11 @@
 //! Reports of meshes on curved surfaces: the two measures (the signed one the optimizer ranks
-//! by, and Verdict's 3D one) and the distances from the input surface, as text and JSON.
+//! by, and Verdict's 3D one) and the distances from the input surface, as text (their JSON is
+//! `quadopt::json`'s).
 
-use crate::json::{by_kind_json, stats_json};
 use crate::plural::count;
 use quadopt::QualityStats;
 use quadopt::io::MeshData;
 use quadopt::surface::{SurfaceFidelity, SurfaceOptimizer, SurfaceReport, VertexRole};
-use serde_json::{Value, json};
-
-/// The distances as JSON.
-pub fn fidelity_json(f: &SurfaceFidelity) -> Value {
-    json!({
-        "max_distance": f.max_distance,
-        "max_distance_relative": f.max_distance_relative(),
-        "max_feature_distance": f.max_feature_distance,
-        "max_feature_distance_relative": f.max_feature_distance_relative(),
-        "max_curve_deviation": f.max_curve_deviation,
-        "max_curve_deviation_relative": f.max_curve_deviation_relative(),
-        "mean_edge": f.mean_edge,
-    })
-}
-
-/// A surface run as JSON: the keys of a planar run's report that apply, `"surface": true`,
-/// Verdict's statistics and the distances.
-pub fn report_json(r: &SurfaceReport) -> Value {
-    let mut v = json!({
-        "surface": true,
-        "input": stats_json(&r.input),
-        "output": stats_json(&r.output),
-        "input_verdict": stats_json(&r.input_verdict),
-        "output_verdict": stats_json(&r.output_verdict),
-        "iterations": r.iterations,
-        "untangle_sweeps": r.untangle_sweeps,
-        "seconds": r.seconds,
-        "effort": r.effort.name(),
-        "cancelled": r.cancelled,
-        "patches": r.patches,
-        "feature_curves": r.feature_curves,
-        "corners": r.corners,
-        "movable": r.movable,
-        "surface_fidelity": fidelity_json(&r.fidelity),
-        "max_min": r.max_min.map(|g| json!({
-            "before": stats_json(&g.before), "after": stats_json(&g.after),
-            "rounds": g.rounds, "seconds": g.seconds,
-        })),
-    });
-    if r.output_by_kind.triangle_count > 0 {
-        v["input_by_kind"] = by_kind_json(&r.input_by_kind);
-        v["output_by_kind"] = by_kind_json(&r.output_by_kind);
-    }
-    v
-}
 
 /// One line of statistics under a label.
 fn line(label: &str, s: &QualityStats) {

@@ -4,7 +4,6 @@
 use crate::annotation::{annotate, corner_flags};
 use crate::cli::{EncodingArgs, OptArgs};
 use crate::fail::Fail;
-use crate::json::{by_kind_json, report_json, stats_json};
 use crate::mesh_files::{Curved, Input, Loaded, MeshWriter, load_input, marked_edges};
 use crate::picture;
 use crate::picture_files::{PictureFormat, write_picture};
@@ -15,7 +14,7 @@ use crate::surface_report;
 use quadopt::io::Format;
 use quadopt::surface::SurfaceOptimizer;
 use quadopt::{Optimizer, Options, Report};
-use serde_json::{Value, json};
+use serde_json::json;
 use std::path::Path;
 
 pub fn optimize(
@@ -77,35 +76,12 @@ pub fn optimize(
     report_on_stderr_if_written_to_stdout(output);
     let mixed = report.output_by_kind.triangle_count > 0;
     if as_json {
-        let mut v = json!({
-            "input": stats_json(&report.input),
-            "output": stats_json(&report.output),
-            "iterations": report.iterations,
-            "seconds": report.seconds,
-            "converged": report.converged,
-            "corners": report.corners,
-            "movable": report.movable,
-            "moved": moved,
-            "reoriented_quads": report.reoriented_quads,
-            "method": options.method.name(),
-            "boundary": options.boundary.name(),
-            "vertices": data.points.len(),
-            "quads": report.output_by_kind.quad_count,
-            "input_file": input.display().to_string(),
-            "output_file": output.display().to_string(),
-        });
-        // Per face kind only for a mesh with triangles: a quad mesh's report is as it was.
-        if mixed {
-            v["triangles"] = json!(report.output_by_kind.triangle_count);
-            v["faces"] = json!(data.quads.len());
-            v["input_by_kind"] = by_kind_json(&report.input_by_kind);
-            v["output_by_kind"] = by_kind_json(&report.output_by_kind);
-        }
+        let mut v =
+            quadopt::json::optimize_report(&report, &options, moved, data.points.len(), data.quads.len());
+        v["input_file"] = json!(input.display().to_string());
+        v["output_file"] = json!(output.display().to_string());
         if let Some(path) = picture {
             v["picture_file"] = json!(path.display().to_string());
-        }
-        if let (Value::Object(v), Value::Object(extra)) = (&mut v, report_json(&report)) {
-            v.extend(extra);
         }
         outln!("{v}");
         return Ok(());
@@ -246,18 +222,15 @@ fn optimize_surface(
     report_on_stderr_if_written_to_stdout(out.path);
     let mixed = report.output_by_kind.triangle_count > 0;
     if out.as_json {
-        let mut v = surface_report::report_json(&report);
-        v["moved"] = json!(moved);
-        // Building the features, patches and reference trees, before the run ("seconds").
-        v["setup_seconds"] = json!(setup_seconds);
-        v["method"] = json!(options.method.name());
-        v["boundary"] = json!(options.boundary.name());
-        v["vertices"] = json!(data.points.len());
-        v["quads"] = json!(report.output_by_kind.quad_count);
-        if mixed {
-            v["triangles"] = json!(report.output_by_kind.triangle_count);
-            v["faces"] = json!(data.quads.len());
-        }
+        // "setup_seconds": building the features, patches and reference trees, before the run.
+        let mut v = quadopt::json::surface_optimize_report(
+            &report,
+            options,
+            moved,
+            setup_seconds,
+            data.points.len(),
+            data.quads.len(),
+        );
         v["input_file"] = json!(input.display().to_string());
         v["output_file"] = json!(out.path.display().to_string());
         if let Some((path, _)) = out.picture {

@@ -4,7 +4,6 @@
 use crate::annotation::{annotate, corner_flags};
 use crate::cli::EncodingArgs;
 use crate::fail::Fail;
-use crate::json::{by_kind_json, stats_json};
 use crate::mesh_files::{Curved, Input, Loaded, MeshWriter, load_input};
 use crate::picture;
 use crate::plural::{count, faces as faces_phrase};
@@ -93,23 +92,11 @@ pub fn quality(
     let kinds = ByFaceKind::new(&faces, &values);
     let mixed = kinds.triangle_count > 0;
     if as_json {
-        let mut v = stats_json(&s);
+        let on_surface = surface
+            .as_ref()
+            .map(|measure| quadopt::json::SurfaceQuality { measure, against_reference: reference.is_some() });
+        let mut v = quadopt::json::quality_summary(&values, &faces, data.points.len(), on_surface);
         v["file"] = json!(input.display().to_string());
-        v["vertices"] = json!(data.points.len());
-        v["quads"] = json!(kinds.quad_count);
-        if mixed {
-            v["triangles"] = json!(kinds.triangle_count);
-            v["faces"] = json!(values.len());
-            v["by_kind"] = by_kind_json(&kinds);
-        }
-        if let Some(m) = &surface {
-            v["surface"] = json!(true);
-            v["verdict"] = stats_json(&m.verdict);
-            if reference.is_some() {
-                v["surface_fidelity"] = surface_report::fidelity_json(&m.fidelity);
-            }
-        }
-        v["histogram"] = json!(h);
         outln!("{v}");
         return Ok(());
     }

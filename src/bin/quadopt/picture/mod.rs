@@ -162,17 +162,8 @@ impl Anchor {
     }
 }
 
-/// The faces of `values` by their bins: `counts[0]` those at or below 0 (the inverted ones,
-/// as [`quadopt::QualityStats::inverted`] counts them, and NaN), then `counts[k]` those in
-/// `((k - 1) / 10, k / 10]` for k = 1..10. `quality` prints and reports the same bins.
-pub fn histogram(values: &[f64]) -> [usize; 11] {
-    let mut counts = [0; 11];
-    for &v in values {
-        let bin = if is_inverted(v) { 0 } else { ((v * 10.0).ceil() as usize).clamp(1, 10) };
-        counts[bin] += 1;
-    }
-    counts
-}
+/// The faces of `values` by their bins (the library's, which `quality` prints and reports).
+pub use quadopt::quality::histogram;
 
 /// The labels of [`histogram`]'s bins.
 pub const BIN_LABELS: [&str; 11] =

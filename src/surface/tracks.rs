@@ -94,7 +94,9 @@ impl Track {
         // Shift s0 into [0, len); the last point repeats the first, so only the others count,
         // once per turn the stretch makes.
         let turns = (s0 / len).floor();
-        let (s0, s1) = (s0 - turns * len, s1 - turns * len);
+        // A stretch of more than one turn holds every point: at most one turn is walked (and
+        // an infinite or huge `s1` never loops).
+        let (s0, s1) = (s0 - turns * len, (s1 - turns * len).min(s0 - turns * len + len));
         let last = self.points.len() - 1;
         let mut offset = 0.0;
         while offset < s1 {
@@ -325,8 +327,10 @@ mod tests {
         }
         // Spanning two corners: both cut off, the farther counts.
         assert_eq!(t.chord_deviation(0.5, 2.5).original_to_new, 0.5);
-        // Out of order: no chord.
+        // Out of order: no chord; a stretch beyond one turn (or infinite) ends.
         assert!(!t.chord_within(1.5, 0.5, 1.0));
+        assert!(!t.chord_within(0.5, f64::INFINITY, 1.0));
+        assert!(!t.chord_within(0.5, 1e300, 1.0));
         // An open polyline: its inner vertex is cut off by a chord across it.
         let open = Track::new(&FeatureCurve { vertices: vec![0, 1, 2], closed: false }, &pts);
         assert!((open.chord_deviation(0.5, 1.5).original_to_new - 0.125f64.sqrt()).abs() < 1e-15);

@@ -309,7 +309,12 @@ pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError
         data.check()?;
         return Ok(data);
     }
-    read_mesh_str(&String::from_utf8_lossy(bytes), format)
+    // Checking first is several times faster than the lossy decoding, which is for the rare
+    // file with invalid bytes (the same text either way).
+    match std::str::from_utf8(bytes) {
+        Ok(text) => read_mesh_str(text, format),
+        Err(_) => read_mesh_str(&String::from_utf8_lossy(bytes), format),
+    }
 }
 
 /// Reads a mesh from text (a leading UTF-8 byte-order mark is skipped). Never panics,

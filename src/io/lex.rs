@@ -33,10 +33,6 @@ pub(crate) struct Lexer<'a> {
     line_toks: Vec<Tok<'a>>,
 }
 
-fn is_space(c: char) -> bool {
-    c.is_ascii_whitespace()
-}
-
 impl<'a> Lexer<'a> {
     /// A lexer over `text`, whose first line is numbered `first_line`; everything after
     /// `comment` on a line is dropped.
@@ -76,11 +72,15 @@ impl<'a> Lexer<'a> {
             return;
         }
         loop {
-            let line = self.line.trim_start_matches(is_space);
-            if !line.is_empty() {
-                let end = line.find(is_space).unwrap_or(line.len());
-                self.peeked = Some(Tok { s: &line[..end], line: self.line_no });
-                self.line = &line[end..];
+            // Bytes, not chars: ASCII whitespace bytes are never inside a multi-byte char, so
+            // the slices end on char boundaries.
+            let b = self.line.as_bytes();
+            let start = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
+            if start < b.len() {
+                let len = b[start..].iter().position(u8::is_ascii_whitespace).unwrap_or(b.len() - start);
+                let end = start + len;
+                self.peeked = Some(Tok { s: &self.line[start..end], line: self.line_no });
+                self.line = &self.line[end..];
                 return;
             }
             self.line = "";
@@ -219,6 +219,14 @@ pub(crate) fn try_vec<T>(count: usize, what: &'static str) -> Result<Vec<T>, IoE
 
 /// A token as a non-negative integer.
 pub(crate) fn parse_usize(t: Tok<'_>, what: &str) -> Result<usize, IoError> {
+    // The common case, up to 19 decimal digits (no overflow in a u64), without std's checks.
+    let b = t.s.as_bytes();
+    if !b.is_empty() && b.len() <= 19 && b.iter().all(u8::is_ascii_digit) {
+        let v = b.iter().fold(0u64, |v, &c| v * 10 + u64::from(c - b'0'));
+        if let Ok(v) = usize::try_from(v) {
+            return Ok(v);
+        }
+    }
     t.s.parse::<usize>().map_err(|_| IoError::Parse {
         line: t.line,
         message: format!("expected {what} (a non-negative integer), found '{}'", clip(t.s)),

@@ -309,7 +309,12 @@ pub fn read_mesh_bytes(bytes: &[u8], format: Format) -> Result<MeshData, IoError
         data.check()?;
         return Ok(data);
     }
-    read_mesh_str(&String::from_utf8_lossy(bytes), format)
+    // Checking first is several times faster than the lossy decoding, which is for the rare
+    // file with invalid bytes (the same text either way).
+    match std::str::from_utf8(bytes) {
+        Ok(text) => read_mesh_str(text, format),
+        Err(_) => read_mesh_str(&String::from_utf8_lossy(bytes), format),
+    }
 }
 
 /// Reads a mesh from text (a leading UTF-8 byte-order mark is skipped). Never panics,
@@ -384,11 +389,165 @@ fn write_body(w: &mut dyn Write, format: Format, data: &MeshData) -> std::io::Re
     }
 }
 
-/// Formats a coordinate with shortest round-trip precision (`1.0`, `0.1`, `1e-7`, `-0.0`).
-pub(crate) struct Num(pub f64);
+/// `x` as `{:?}` writes it, when `ryu` writes the same text. Both write the shortest digits
+/// that read back as `x`, the nearest to `x` of those; they differ on exact ties (when `x`
+/// lies exactly halfway between the two nearest, `ryu` rounds to even, `{:?}` up:
+/// 266703219052002.125 is `...002.12` against `...002.13`), and in notation: for 0 and
+/// magnitudes in [1e-4, 1e16) both are positional (`{:?}` switches to `1e-5` below 1e-4, `ryu`
+/// only below 1e-5). Elsewhere (exponents, NaN, infinities, possible ties) `None`: the caller
+/// falls back to `{:?}`. The unit test `ryu_writes_what_debug_writes` compares the two on
+/// millions of values.
+#[inline]
+fn fast_f64(b: &mut ryu::Buffer, x: f64) -> Option<&str> {
+    let a = x.abs();
+    if !((1e-4..1e16).contains(&a) || a == 0.0) {
+        return None;
+    }
+    let s = b.format_finite(x);
+    (!tie_possible(a, s)).then_some(s)
+}
 
-impl std::fmt::Display for Num {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{:?}", self.0)
+/// Whether `a` (positive or 0, below 1e16) may lie exactly halfway between two decimals of
+/// the length of its shortest digits `s`: then its exact decimal expansion has one digit
+/// more than `s` (a 5). With `a = m 2^e`, `m` odd, `e < 0`, that expansion's digits are those
+/// of `m 5^-e`; an integer below 2^53 is written exactly (no tie); larger ones are not checked.
+#[inline]
+fn tie_possible(a: f64, s: &str) -> bool {
+    if a >= 9007199254740992.0 {
+        return true;
+    }
+    let bits = a.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        // 0 (subnormals are below 1e-4).
+        return false;
+    }
+    let mut m = (bits & ((1u64 << 52) - 1)) | (1u64 << 52);
+    let tz = m.trailing_zeros();
+    m >>= tz;
+    let e = biased - 1075 + tz as i32;
+    if e >= 0 {
+        return false;
+    }
+    let k = e.unsigned_abs();
+    // 5^26 alone exceeds 10^18: an expansion that long is longer than 17 digits plus one.
+    if k > 26 {
+        return false;
+    }
+    let exact = u128::from(m) * 5u128.pow(k);
+    if exact >= 1_000_000_000_000_000_000 {
+        return false;
+    }
+    let exact_digits = exact.ilog10() as usize + 1;
+    let digits = s.bytes().filter(u8::is_ascii_digit).skip_while(|&c| c == b'0').count();
+    exact_digits == digits + 1
+}
+
+/// Appends `x` as `{:?}` writes it: shortest round-trip precision (`1.0`, `0.1`, `1e-7`, `-0.0`).
+#[inline]
+pub(crate) fn push_f64(buf: &mut Vec<u8>, x: f64) {
+    let mut b = ryu::Buffer::new();
+    match fast_f64(&mut b, x) {
+        Some(s) => buf.extend_from_slice(s.as_bytes()),
+        None => {
+            let _ = write!(buf, "{x:?}");
+        }
+    }
+}
+
+/// Appends an integer in decimal.
+#[inline]
+pub(crate) fn push_int(buf: &mut Vec<u8>, x: impl itoa::Integer) {
+    buf.extend_from_slice(itoa::Buffer::new().format(x).as_bytes());
+}
+
+/// Writes one line (or any text) per item of `items`, `line(buf, i, item)` appending item
+/// `i`'s text to `buf`: the text is made in chunks of items, several chunks at a time on
+/// rayon's threads, and written in order, so the output is exactly that of a sequential loop.
+pub(crate) fn write_items<T: Sync>(
+    w: &mut dyn Write,
+    items: &[T],
+    line: impl Fn(&mut Vec<u8>, usize, &T) + Sync,
+) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 1 << 14;
+    let batch = CHUNK * 2 * rayon::current_num_threads().max(1);
+    let mut bufs: Vec<Vec<u8>> = Vec::new();
+    for (b, batch_items) in items.chunks(batch).enumerate() {
+        let base = b * batch;
+        let chunks = batch_items.len().div_ceil(CHUNK);
+        bufs.resize_with(chunks.max(bufs.len()), Vec::new);
+        bufs[..chunks].par_iter_mut().enumerate().for_each(|(c, buf)| {
+            buf.clear();
+            let start = c * CHUNK;
+            let end = (start + CHUNK).min(batch_items.len());
+            for (k, item) in batch_items[start..end].iter().enumerate() {
+                line(buf, base + start + k, item);
+            }
+        });
+        for buf in &bufs[..chunks] {
+            w.write_all(buf)?;
+        }
+    }
+    Ok(())
+}
+
+/// Appends `x y z` (no line end).
+#[inline]
+pub(crate) fn push_xyz(buf: &mut Vec<u8>, p: &[f64; 3]) {
+    push_f64(buf, p[0]);
+    buf.push(b' ');
+    push_f64(buf, p[1]);
+    buf.push(b' ');
+    push_f64(buf, p[2]);
+}
+
+/// Appends ` a b c (d)` for a face's vertices plus `offset` (no line end).
+#[inline]
+pub(crate) fn push_face(buf: &mut Vec<u8>, q: &[u32; 4], offset: u64) {
+    for &v in crate::face::vertices(q) {
+        buf.push(b' ');
+        push_int(buf, u64::from(v) + offset);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(x: f64) {
+        let mut buf = Vec::new();
+        push_f64(&mut buf, x);
+        assert_eq!(std::str::from_utf8(&buf).unwrap(), format!("{x:?}"), "{:#x}", x.to_bits());
+    }
+
+    #[test]
+    fn ryu_writes_what_debug_writes() {
+        use rand_core::{RngCore, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(45);
+        for x in [0.0, -0.0, 1.0, 0.1, 1e-4, 1e-5, 9.999e-5, 1e-7, 1e15, 1e16, 9.999999999999998e15, 123456.0] {
+            check(x);
+            check(-x);
+        }
+        for x in [f64::from_bits(0x42ee5215d439bc44), 0.125, 2.5, 0.0625, 1.5e-4, 3.0517578125e-5] {
+            check(x);
+        }
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::EPSILON] {
+            check(x);
+        }
+        for _ in 0..2_000_000 {
+            // Any bit pattern; a value in [0, 1) with 53 random bits; one with a few digits; a
+            // value near the notation thresholds.
+            check(f64::from_bits(rng.next_u64()));
+            let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+            check(u);
+            check((u * 1e6).round() / 1e3);
+            let e = (rng.next_u32() % 40) as i32 - 20;
+            check(u * 10f64.powi(e));
+            // Short exact binary fractions: exact decimal expansions, ties among them.
+            let t = (rng.next_u64() % (1 << 50)) as f64 / (1u64 << (rng.next_u32() % 60)) as f64;
+            check(t);
+            check(t * 1e-3);
+        }
     }
 }

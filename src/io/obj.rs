@@ -1,8 +1,8 @@
 //! Wavefront OBJ: `v` and 3- or 4-vertex `f` statements (see the module docs of [`crate::io`]).
 
 use super::lex::{Tok, clip, parse_f64, parse_i64, try_push};
-use super::{IoError, MeshData, Num};
-use crate::face::{NO_VERTEX, vertices};
+use super::{IoError, MeshData, push_face, push_xyz, write_items};
+use crate::face::NO_VERTEX;
 use std::io::Write;
 
 /// Reads an OBJ text.
@@ -120,15 +120,14 @@ fn resolve(raw: Raw, defined: usize, n: usize) -> Option<[u32; 4]> {
 /// Writes an OBJ text.
 pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     writeln!(w, "# quad mesh written by quadopt")?;
-    for p in &data.points {
-        writeln!(w, "v {} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
-    }
-    for q in &data.quads {
-        write!(w, "f")?;
-        for &v in vertices(q) {
-            write!(w, " {}", u64::from(v) + 1)?;
-        }
-        writeln!(w)?;
-    }
-    Ok(())
+    write_items(w, &data.points, |b, _, p| {
+        b.extend_from_slice(b"v ");
+        push_xyz(b, p);
+        b.push(b'\n');
+    })?;
+    write_items(w, &data.quads, |b, _, q| {
+        b.push(b'f');
+        push_face(b, q, 1);
+        b.push(b'\n');
+    })
 }

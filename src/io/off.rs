@@ -2,7 +2,7 @@
 //! `STOFF`, ...). Only 3D, ASCII files; faces must have 3 or 4 vertices.
 
 use super::lex::{Lexer, parse_f64, parse_usize, try_push, try_vec};
-use super::{IoError, MeshData, Num};
+use super::{IoError, MeshData, push_face, push_int, push_xyz, write_items};
 use crate::face::{NO_VERTEX, vertices};
 use std::io::Write;
 
@@ -83,15 +83,13 @@ pub(super) fn read(text: &str) -> Result<MeshData, IoError> {
 pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     writeln!(w, "OFF")?;
     writeln!(w, "{} {} 0", data.points.len(), data.quads.len())?;
-    for p in &data.points {
-        writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
-    }
-    for q in &data.quads {
-        write!(w, "{}", vertices(q).len())?;
-        for &v in vertices(q) {
-            write!(w, " {v}")?;
-        }
-        writeln!(w)?;
-    }
-    Ok(())
+    write_items(w, &data.points, |b, _, p| {
+        push_xyz(b, p);
+        b.push(b'\n');
+    })?;
+    write_items(w, &data.quads, |b, _, q| {
+        push_int(b, vertices(q).len());
+        push_face(b, q, 0);
+        b.push(b'\n');
+    })
 }

@@ -2,8 +2,8 @@
 //! and 4-vertex polygons, and a point-data array `fixed` (see the module docs of [`crate::io`]).
 
 use super::lex::{Lexer, Tok, clip, parse_usize, try_push, try_vec};
-use super::{IoError, MeshData, Num};
-use crate::face::{NO_VERTEX, corner_count, is_triangle, vertices};
+use super::{IoError, MeshData, push_f64, push_face, push_int, push_xyz, write_items};
+use crate::face::{NO_VERTEX, corner_count, is_triangle};
 use std::io::Write;
 
 /// VTK's cell type number of a triangle.
@@ -500,32 +500,33 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     let dataset = if data.vtk_polydata { "POLYDATA" } else { "UNSTRUCTURED_GRID" };
     writeln!(w, "DATASET {dataset}")?;
     writeln!(w, "POINTS {} double", data.points.len())?;
-    for p in &data.points {
-        writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
-    }
+    write_items(w, &data.points, |b, _, p| {
+        push_xyz(b, p);
+        b.push(b'\n');
+    })?;
     let m = data.quads.len();
     let size: usize = data.quads.iter().map(|q| 1 + corner_count(q)).sum();
     writeln!(w, "{} {m} {size}", if data.vtk_polydata { "POLYGONS" } else { "CELLS" })?;
-    for q in &data.quads {
-        write!(w, "{}", corner_count(q))?;
-        for &v in vertices(q) {
-            write!(w, " {v}")?;
-        }
-        writeln!(w)?;
-    }
+    write_items(w, &data.quads, |b, _, q| {
+        push_int(b, corner_count(q));
+        push_face(b, q, 0);
+        b.push(b'\n');
+    })?;
     if !data.vtk_polydata {
         writeln!(w, "CELL_TYPES {m}")?;
-        for q in &data.quads {
-            writeln!(w, "{}", if is_triangle(q) { VTK_TRIANGLE } else { VTK_QUAD })?;
-        }
+        write_items(w, &data.quads, |b, _, q| {
+            push_int(b, if is_triangle(q) { VTK_TRIANGLE } else { VTK_QUAD });
+            b.push(b'\n');
+        })?;
     }
     if let Some(quality) = &data.quality {
         writeln!(w, "CELL_DATA {m}")?;
         writeln!(w, "SCALARS scaled_jacobian double 1")?;
         writeln!(w, "LOOKUP_TABLE default")?;
-        for &v in quality {
-            writeln!(w, "{}", Num(v))?;
-        }
+        write_items(w, quality, |b, _, &v| {
+            push_f64(b, v);
+            b.push(b'\n');
+        })?;
     }
     let flags = [("fixed", &data.fixed), ("corner", &data.corner)];
     if flags.iter().any(|(_, f)| f.is_some()) {
@@ -535,9 +536,7 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         let Some(values) = values else { continue };
         writeln!(w, "SCALARS {name} int 1")?;
         writeln!(w, "LOOKUP_TABLE default")?;
-        for &f in values {
-            writeln!(w, "{}", u8::from(f))?;
-        }
+        write_items(w, values, |b, _, &f| b.extend_from_slice(if f { b"1\n" } else { b"0\n" }))?;
     }
     Ok(())
 }

@@ -5,8 +5,8 @@ mod binary;
 mod groups;
 
 use super::lex::{Lexer, Tok, clip, parse_f64, parse_usize, try_push, try_vec};
-use super::{Encoding, IoError, MeshData, MshVersion, Num};
-use crate::face::{NO_VERTEX, is_triangle, vertices};
+use super::{Encoding, IoError, MeshData, MshVersion, push_f64, push_face, push_int, push_xyz, write_items};
+use crate::face::{NO_VERTEX, is_triangle};
 use groups::Groups;
 use std::collections::HashMap;
 use std::io::Write;
@@ -504,47 +504,50 @@ pub(super) fn write(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
         MshVersion::V2_2 => {
             writeln!(w, "$MeshFormat\n2.2 0 8\n$EndMeshFormat")?;
             writeln!(w, "$Nodes\n{n}")?;
-            for (i, p) in data.points.iter().enumerate() {
-                writeln!(w, "{} {} {} {}", i + 1, Num(p[0]), Num(p[1]), Num(p[2]))?;
-            }
+            write_items(w, &data.points, |b, i, p| {
+                push_int(b, i + 1);
+                b.push(b' ');
+                push_xyz(b, p);
+                b.push(b'\n');
+            })?;
             writeln!(w, "$EndNodes\n$Elements\n{m}")?;
-            for (i, q) in data.quads.iter().enumerate() {
-                write!(w, "{} {} 2 0 1", i + 1, element_type(q))?;
-                write_nodes(w, q)?;
-            }
+            write_items(w, &data.quads, |b, i, q| {
+                push_int(b, i + 1);
+                b.push(b' ');
+                push_int(b, element_type(q));
+                b.extend_from_slice(b" 2 0 1");
+                push_face(b, q, 1);
+                b.push(b'\n');
+            })?;
             writeln!(w, "$EndElements")?;
         }
         MshVersion::V4_1 => {
             writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
             // One surface entity holding every node and every quad.
             writeln!(w, "$Nodes\n1 {n} {} {n}\n2 1 0 {n}", n.min(1))?;
-            for i in 0..n {
-                writeln!(w, "{}", i + 1)?;
-            }
-            for p in &data.points {
-                writeln!(w, "{} {} {}", Num(p[0]), Num(p[1]), Num(p[2]))?;
-            }
+            write_items(w, &data.points, |b, i, _| {
+                push_int(b, i + 1);
+                b.push(b'\n');
+            })?;
+            write_items(w, &data.points, |b, _, p| {
+                push_xyz(b, p);
+                b.push(b'\n');
+            })?;
             let blocks = blocks(&data.quads);
             writeln!(w, "$EndNodes\n$Elements\n{} {m} {} {m}", blocks.len(), m.min(1))?;
             for (ty, range) in blocks {
                 writeln!(w, "2 1 {ty} {}", range.len())?;
-                for i in range {
-                    write!(w, "{}", i + 1)?;
-                    write_nodes(w, &data.quads[i])?;
-                }
+                let start = range.start;
+                write_items(w, &data.quads[range], |b, k, q| {
+                    push_int(b, start + k + 1);
+                    push_face(b, q, 1);
+                    b.push(b'\n');
+                })?;
             }
             writeln!(w, "$EndElements")?;
         }
     }
     write_views(w, data)
-}
-
-/// The 1-based node tags of a face, each after a space, and the end of the line.
-fn write_nodes(w: &mut dyn Write, face: &[u32; 4]) -> std::io::Result<()> {
-    for &v in vertices(face) {
-        write!(w, " {}", u64::from(v) + 1)?;
-    }
-    writeln!(w)
 }
 
 /// A `$NodeData` view after its keyword: the flags (nonzero = set) if the view is named
@@ -601,17 +604,21 @@ fn write_views(w: &mut dyn Write, data: &MeshData) -> std::io::Result<()> {
     };
     if let Some(quality) = &data.quality {
         header(w, "ElementData", "scaled_jacobian", quality.len())?;
-        for (i, &v) in quality.iter().enumerate() {
-            writeln!(w, "{} {}", i + 1, Num(v))?;
-        }
+        write_items(w, quality, |b, i, &v| {
+            push_int(b, i + 1);
+            b.push(b' ');
+            push_f64(b, v);
+            b.push(b'\n');
+        })?;
         writeln!(w, "$EndElementData")?;
     }
     for (name, flags) in [("fixed", &data.fixed), ("corner", &data.corner)] {
         let Some(flags) = flags else { continue };
         header(w, "NodeData", name, flags.len())?;
-        for (i, &f) in flags.iter().enumerate() {
-            writeln!(w, "{} {}", i + 1, u8::from(f))?;
-        }
+        write_items(w, flags, |b, i, &f| {
+            push_int(b, i + 1);
+            b.extend_from_slice(if f { b" 1\n" } else { b" 0\n" });
+        })?;
         writeln!(w, "$EndNodeData")?;
     }
     Ok(())

@@ -4,7 +4,7 @@
 
 use super::{VTK_QUAD, VTK_TRIANGLE};
 use crate::face::{is_triangle, vertices};
-use crate::io::{Encoding, MeshData, Num};
+use crate::io::{Encoding, MeshData, push_f64, push_int, write_items};
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use std::io::Write;
@@ -46,22 +46,23 @@ impl Out {
 
     /// ASCII values, separated by spaces (reals at round-trip precision).
     fn write_text(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        let mut sep = "";
+        let sep = |b: &mut Vec<u8>, i: usize| {
+            if i > 0 {
+                b.push(b' ');
+            }
+        };
         match &self.values {
-            Values::F64(v) => v.iter().try_for_each(|x| {
-                write!(w, "{sep}{}", Num(*x))?;
-                sep = " ";
-                Ok(())
+            Values::F64(v) => write_items(w, v, |b, i, &x| {
+                sep(b, i);
+                push_f64(b, x);
             }),
-            Values::I64(v) => v.iter().try_for_each(|x| {
-                write!(w, "{sep}{x}")?;
-                sep = " ";
-                Ok(())
+            Values::I64(v) => write_items(w, v, |b, i, &x| {
+                sep(b, i);
+                push_int(b, x);
             }),
-            Values::U8(v) => v.iter().try_for_each(|x| {
-                write!(w, "{sep}{x}")?;
-                sep = " ";
-                Ok(())
+            Values::U8(v) => write_items(w, v, |b, i, &x| {
+                sep(b, i);
+                push_int(b, x);
             }),
         }
     }

@@ -26,7 +26,8 @@ fn mesh(quads: usize) -> MeshData {
 }
 
 fn bench(c: &mut Criterion) {
-    let quads = std::env::var("QUADOPT_BENCH_IO_QUADS").ok().and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let quads =
+        std::env::var("QUADOPT_BENCH_IO_QUADS").ok().and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
     let only = std::env::var("QUADOPT_BENCH_IO_FORMATS").ok();
     let base = mesh(quads);
     let cases: [(&str, Format, Encoding); 8] = [
@@ -49,8 +50,12 @@ fn bench(c: &mut Criterion) {
         data.encoding = encoding;
         let bytes = write_mesh_bytes(format, &data).expect("write");
         eprintln!("io/{name}: {} MB for {} quads", bytes.len() / 1_000_000, base.quads.len());
-        g.bench_function(format!("write/{name}"), |b| b.iter(|| write_mesh_bytes(format, black_box(&data)).unwrap()));
-        g.bench_function(format!("read/{name}"), |b| b.iter(|| read_mesh_bytes(black_box(&bytes), format).unwrap()));
+        g.bench_function(format!("write/{name}"), |b| {
+            b.iter(|| write_mesh_bytes(format, black_box(&data)).unwrap())
+        });
+        g.bench_function(format!("read/{name}"), |b| {
+            b.iter(|| read_mesh_bytes(black_box(&bytes), format).unwrap())
+        });
     }
     g.finish();
 }

@@ -525,14 +525,17 @@ mod tests {
     fn ryu_writes_what_debug_writes() {
         use rand_core::{RngCore, SeedableRng};
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(45);
-        for x in [0.0, -0.0, 1.0, 0.1, 1e-4, 1e-5, 9.999e-5, 1e-7, 1e15, 1e16, 9.999999999999998e15, 123456.0] {
+        for x in [0.0, -0.0, 1.0, 0.1, 1e-4, 1e-5, 9.999e-5, 1e-7, 1e15, 1e16, 9.999999999999998e15, 123456.0]
+        {
             check(x);
             check(-x);
         }
         for x in [f64::from_bits(0x42ee5215d439bc44), 0.125, 2.5, 0.0625, 1.5e-4, 3.0517578125e-5] {
             check(x);
         }
-        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::EPSILON] {
+        for x in
+            [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::EPSILON]
+        {
             check(x);
         }
         for _ in 0..2_000_000 {

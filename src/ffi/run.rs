@@ -260,6 +260,44 @@ pub unsafe extern "C" fn quadopt_optimize(
     })
 }
 
+/// The checks of a quality function's outputs: `out` required, `per_quad` (if not NULL)
+/// aligned with room for `quad_count` values.
+fn check_quality_outputs(
+    out: *mut QuadoptQuality,
+    per_quad: *mut f64,
+    per_quad_len: usize,
+    quad_count: usize,
+) -> Result<(), FfiError> {
+    require_non_null(out.cast_const(), "out")?;
+    if !per_quad.is_null() {
+        if per_quad_len < quad_count {
+            return Err(FfiError::new(
+                QuadoptStatus::InvalidArgument,
+                format!("per_quad_len is {per_quad_len}, smaller than quad_count = {quad_count}"),
+            ));
+        }
+        require_non_null(per_quad.cast_const(), "per_quad")?;
+        check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
+    }
+    Ok(())
+}
+
+/// Writes the statistics of `values` to `out` and, if `per_quad` is not NULL, the values.
+///
+/// # Safety
+/// `out` and `per_quad` passed [`check_quality_outputs`] with `values.len()` faces.
+unsafe fn write_quality_outputs(values: &[f64], out: *mut QuadoptQuality, per_quad: *mut f64) {
+    let stats = quality_of(&QualityStats::from_values(values));
+    // SAFETY: `out` is non-null and aligned; `per_quad`, if non-null, is aligned and holds at
+    // least values.len() doubles (the caller's contract).
+    unsafe {
+        if !per_quad.is_null() {
+            std::ptr::copy_nonoverlapping(values.as_ptr(), per_quad, values.len());
+        }
+        out.write(stats);
+    }
+}
+
 /// Measures the quality of a mesh without changing it: statistics over every face into `*out`
 /// (required) and, if `per_quad` is not NULL, each face's scaled Jacobian (a triangle's is
 /// Verdict's triangle scaled Jacobian: 1 for an equilateral one) into
@@ -287,17 +325,7 @@ pub unsafe extern "C" fn quadopt_quality(
     per_quad_len: usize,
 ) -> QuadoptStatus {
     boundary("quadopt_quality", || {
-        require_non_null(out.cast_const(), "out")?;
-        if !per_quad.is_null() {
-            if per_quad_len < quad_count {
-                return Err(FfiError::new(
-                    QuadoptStatus::InvalidArgument,
-                    format!("per_quad_len is {per_quad_len}, smaller than quad_count = {quad_count}"),
-                ));
-            }
-            require_non_null(per_quad.cast_const(), "per_quad")?;
-            check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
-        }
+        check_quality_outputs(out, per_quad, per_quad_len, quad_count)?;
         // SAFETY: forwarded from this function's contract (plane_of reads nothing when the
         // arguments' checks fail).
         let plane = unsafe { plane_of(coords, dim, vertex_count, quads, quad_count) }?;
@@ -310,15 +338,8 @@ pub unsafe extern "C" fn quadopt_quality(
                 unsafe { read_planar_mesh(coords, dim, vertex_count, quads, quad_count, null(), &plane) }?;
             mesh.try_quality_values()?
         };
-        let stats = quality_of(&QualityStats::from_values(&values));
-        // SAFETY: `out` is non-null and aligned (checked); `per_quad`, if non-null, is aligned
-        // and holds per_quad_len >= quad_count = values.len() doubles (checked).
-        unsafe {
-            if !per_quad.is_null() {
-                std::ptr::copy_nonoverlapping(values.as_ptr(), per_quad, values.len());
-            }
-            out.write(stats);
-        }
+        // SAFETY: checked by check_quality_outputs, `values` has quad_count entries.
+        unsafe { write_quality_outputs(&values, out, per_quad) };
         Ok(())
     })
 }
@@ -346,17 +367,7 @@ pub unsafe extern "C" fn quadopt_verdict_quality(
     per_quad_len: usize,
 ) -> QuadoptStatus {
     boundary("quadopt_verdict_quality", || {
-        require_non_null(out.cast_const(), "out")?;
-        if !per_quad.is_null() {
-            if per_quad_len < quad_count {
-                return Err(FfiError::new(
-                    QuadoptStatus::InvalidArgument,
-                    format!("per_quad_len is {per_quad_len}, smaller than quad_count = {quad_count}"),
-                ));
-            }
-            require_non_null(per_quad.cast_const(), "per_quad")?;
-            check_bytes(per_quad_len, size_of::<f64>(), "per_quad")?;
-        }
+        check_quality_outputs(out, per_quad, per_quad_len, quad_count)?;
         // SAFETY: forwarded from this function's contract.
         let points = unsafe { super::boundary::read_points_3d_flat(coords, vertex_count) }?;
         // SAFETY: forwarded from this function's contract.
@@ -375,14 +386,8 @@ pub unsafe extern "C" fn quadopt_verdict_quality(
             let d = crate::face::fourth_corner(f);
             crate::quality3d::verdict_scaled_jacobian(&[at(f[0]), at(f[1]), at(f[2]), at(d)])
         }));
-        let stats = quality_of(&QualityStats::from_values(&values));
-        // SAFETY: as in quadopt_quality.
-        unsafe {
-            if !per_quad.is_null() {
-                std::ptr::copy_nonoverlapping(values.as_ptr(), per_quad, values.len());
-            }
-            out.write(stats);
-        }
+        // SAFETY: checked by check_quality_outputs, `values` has quad_count entries.
+        unsafe { write_quality_outputs(&values, out, per_quad) };
         Ok(())
     })
 }

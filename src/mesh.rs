@@ -217,9 +217,11 @@ impl Mesh {
     /// [`Mesh::quality_values`], or [`Error::OutOfMemory`].
     pub fn try_quality_values(&self) -> Result<Vec<f64>> {
         let mut values = try_with_capacity(self.quads.len(), "quality values")?;
-        values.extend(
+        use rayon::prelude::*;
+        values.par_extend(
             self.quads
-                .iter()
+                .par_iter()
+                .with_min_len(crate::quality::PARALLEL_CHUNK)
                 .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(&self.points, q))),
         );
         Ok(values)

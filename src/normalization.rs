@@ -70,13 +70,17 @@ impl Normalization {
     /// box maps onto [-1, 1] in its larger dimension, centred on the origin (into [-3, 3]^2,
     /// not centred, for meshes with edges below 2^-20 of their size).
     pub fn new(points: &[DVec2], quads: &[[u32; 4]]) -> Normalization {
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for &v in quads.iter().flatten() {
-            if let Some(&p) = points.get(v as usize) {
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
-        }
+        // In parallel: minima and maxima do not depend on the order.
+        let empty = || (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let (lo, hi) = quads
+            .par_iter()
+            .with_min_len(crate::quality::PARALLEL_CHUNK)
+            .fold(empty, |(lo, hi), q| {
+                q.iter()
+                    .filter_map(|&v| points.get(v as usize))
+                    .fold((lo, hi), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+            })
+            .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)));
         if !(lo.is_finite() && hi.is_finite()) {
             return Normalization::IDENTITY;
         }
@@ -326,21 +330,25 @@ impl Normalized {
 }
 
 /// The shortest non-zero edge of `quads` at the positions `at` gives (0 when there is none).
-fn shortest_edge(quads: &[[u32; 4]], at: impl Fn(u32) -> Option<DVec2>) -> f64 {
-    let mut shortest = f64::INFINITY;
-    for q in quads {
+fn shortest_edge(quads: &[[u32; 4]], at: impl Fn(u32) -> Option<DVec2> + Sync) -> f64 {
+    // In parallel: a minimum does not depend on the order.
+    let shortest_of = |shortest: f64, q: &[u32; 4]| {
         let n = face::corner_count(q);
-        for i in 0..n {
-            if let (Some(a), Some(b)) = (at(q[i]), at(q[(i + 1) % n])) {
+        (0..n).fold(shortest, |shortest, i| match (at(q[i]), at(q[(i + 1) % n])) {
+            (Some(a), Some(b)) => {
                 // hypot: the squares of edges near 1e-300 of the box would underflow.
                 let d = b - a;
                 let l = d.x.hypot(d.y);
-                if l > 0.0 && l < shortest {
-                    shortest = l;
-                }
+                if l > 0.0 && l < shortest { l } else { shortest }
             }
-        }
-    }
+            _ => shortest,
+        })
+    };
+    let shortest = quads
+        .par_iter()
+        .with_min_len(crate::quality::PARALLEL_CHUNK)
+        .fold(|| f64::INFINITY, shortest_of)
+        .reduce(|| f64::INFINITY, f64::min);
     if shortest.is_finite() { shortest } else { 0.0 }
 }
 

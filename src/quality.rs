@@ -333,8 +333,14 @@ pub fn sign_class(c: &[DVec2; 4]) -> Option<std::cmp::Ordering> {
 
 /// Per-quad scaled Jacobians of `quads` (counter-clockwise, indices into `points`).
 pub fn quad_values(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
-    quads.iter().map(|q| scaled_jacobian(&corners(points, q))).collect()
+    use rayon::prelude::*;
+    // In parallel, in order: the same vector on any thread count.
+    quads.par_iter().with_min_len(PARALLEL_CHUNK).map(|q| scaled_jacobian(&corners(points, q))).collect()
 }
+
+/// Faces or vertices per parallel task in the whole-mesh passes (quality, energy, lengths):
+/// a rayon task costs about a microsecond, a face a few nanoseconds.
+pub(crate) const PARALLEL_CHUNK: usize = 4096;
 
 /// The four corner positions of a face; a triangle's last corner twice, which
 /// [`scaled_jacobian`] measures as the triangle (see [`crate::face::fourth_corner`]).

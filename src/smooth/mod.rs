@@ -438,7 +438,14 @@ fn restore_below_bounds(
         let value = crate::quality::scaled_jacobian(&crate::quality::corners(points, &quads[f]));
         !(value >= input_values[f].min(floor))
     };
-    let mut pending: Vec<usize> = (0..quads.len()).filter(|&f| below(points, f)).collect();
+    let mut pending: Vec<usize> = {
+        let points: &[DVec2] = points;
+        (0..quads.len())
+            .into_par_iter()
+            .with_min_len(crate::quality::PARALLEL_CHUNK)
+            .filter(|&f| below(points, f))
+            .collect()
+    };
     let mut restored = 0;
     while let Some(f) = pending.pop() {
         if !below(points, f) {
@@ -486,13 +493,20 @@ fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::
 /// Mean length of the face edges (each interior edge counted twice, which does not matter
 /// for a scale).
 fn mean_edge_length(points: &[DVec2], quads: &[[u32; 4]]) -> f64 {
-    let (mut total, mut count) = (0.0, 0usize);
-    for q in quads {
-        let n = crate::face::corner_count(q);
-        total +=
-            (0..n).map(|i| (points[q[(i + 1) % n] as usize] - points[q[i] as usize]).length()).sum::<f64>();
-        count += n;
-    }
+    let chunk_sum = |chunk: &[[u32; 4]]| {
+        let (mut total, mut count) = (0.0, 0usize);
+        for q in chunk {
+            let n = crate::face::corner_count(q);
+            total += (0..n)
+                .map(|i| (points[q[(i + 1) % n] as usize] - points[q[i] as usize]).length())
+                .sum::<f64>();
+            count += n;
+        }
+        (total, count)
+    };
+    // Chunk sums in parallel, added in order: the same bits on any thread count.
+    let sums: Vec<(f64, usize)> = quads.par_chunks(crate::quality::PARALLEL_CHUNK).map(chunk_sum).collect();
+    let (total, count) = sums.iter().fold((0.0, 0), |(t, c), &(dt, dc)| (t + dt, c + dc));
     total / count.max(1) as f64
 }
 

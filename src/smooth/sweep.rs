@@ -361,12 +361,21 @@ impl RunContext<'_> {
     /// contribute their one angle inside the sweep; here only the interior part is needed
     /// for reporting the result).
     pub fn energy(&self, points: &[DVec2]) -> f64 {
-        self.features
+        let chunk_energy = |chunk: &[u32]| -> f64 {
+            chunk
+                .iter()
+                .filter(|&&v| !self.features.is_boundary(v as usize))
+                .map(|&v| energy::vertex_energy(points, v as usize, self.topo.ring(v as usize)))
+                .sum()
+        };
+        // Chunk sums in parallel, added in order: the same bits on any thread count.
+        let sums: Vec<f64> = self
+            .features
             .movable_vertices()
-            .iter()
-            .filter(|&&v| !self.features.is_boundary(v as usize))
-            .map(|&v| energy::vertex_energy(points, v as usize, self.topo.ring(v as usize)))
-            .sum()
+            .par_chunks(crate::quality::PARALLEL_CHUNK)
+            .map(chunk_energy)
+            .collect();
+        sums.iter().sum()
     }
 
     /// The updates of the vertices of `chunk` (part of a colour class) into `out` (as long as

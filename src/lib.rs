@@ -53,6 +53,9 @@ pub mod quality;
 pub mod quality3d;
 pub(crate) mod quiet_threads;
 mod renumbering;
+/// Run-time choice of the vector width (its `unsafe`: calling code compiled for AVX2 once the
+/// CPU is known to have it).
+mod simd;
 pub(crate) mod smooth;
 pub mod surface;
 pub mod synthetic;

@@ -60,9 +60,19 @@ pub fn corner_scaled_jacobian(prev: DVec2, p: DVec2, next: DVec2) -> f64 {
 /// assert!((quadopt::quality::scaled_jacobian(&huge) - 1.0).abs() < 1e-15);
 /// ```
 pub fn scaled_jacobian(q: &[DVec2; 4]) -> f64 {
-    if in_exact_range(q) {
-        return scaled_jacobian_in_range(q);
-    }
+    scaled_jacobian_inline(q)
+}
+
+/// [`scaled_jacobian`], inlined into the loops compiled for AVX2 ([`crate::simd`]); the rare
+/// quad out of the exact range is scaled out of line.
+#[inline(always)]
+pub(crate) fn scaled_jacobian_inline(q: &[DVec2; 4]) -> f64 {
+    if in_exact_range(q) { scaled_jacobian_in_range(q) } else { scaled_jacobian_scaled(q) }
+}
+
+/// [`scaled_jacobian`] of a quad out of the exact range: scaled by a power of two into it.
+#[inline(never)]
+fn scaled_jacobian_scaled(q: &[DVec2; 4]) -> f64 {
     let e = -unit_exponent(q);
     scaled_jacobian_in_range(&q.map(|p| scale_point(p, e)))
 }
@@ -151,7 +161,7 @@ const RANGE_LOW: f64 = f64::from_bits((1023 - 250) << 52);
 /// into [1, 2); each operation's result scales exactly, so both give the same value bit for
 /// bit and the scaling can be skipped (the common case: the optimizer works in a normalized
 /// frame).
-#[inline]
+#[inline(always)]
 fn in_exact_range(q: &[DVec2; 4]) -> bool {
     let mut ok = true;
     for i in 0..4 {
@@ -168,7 +178,7 @@ fn in_exact_range(q: &[DVec2; 4]) -> bool {
 /// the computed diagonal exceeds dx + dy by at most 2 ulps, the bound falls short of it by at
 /// most 3 and is raised by 4: the diagonal's square root is needed only for the rare quads
 /// with a shorter edge.
-#[inline]
+#[inline(always)]
 fn clearly_long_bound(q: &[DVec2; 4]) -> (f64, DVec2) {
     let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
     let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
@@ -178,7 +188,7 @@ fn clearly_long_bound(q: &[DVec2; 4]) -> (f64, DVec2) {
 
 /// The scaled Jacobian of a quad whose coordinates are in a range where no step of the
 /// computation over- or underflows (see [`in_exact_range`]).
-#[inline]
+#[inline(always)]
 fn scaled_jacobian_in_range(q: &[DVec2; 4]) -> f64 {
     if q[3] == q[2] {
         return triangle_scaled_jacobian(q[0], q[1], q[2]);

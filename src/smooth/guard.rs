@@ -105,7 +105,7 @@ const SLACK_MARGIN: f64 = 1e-9;
 /// than L (1 - 1/pi), far from Verdict's degenerate-edge cut-off when L is not tiny next to
 /// the longest edge. A margin of 1e-9 covers the rounding of the scaled Jacobians. The
 /// result is rounded down to an f32 (half the memory).
-#[inline]
+#[inline(always)]
 pub fn quad_slack(c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
     let squared = [c[1] - c[0], c[2] - c[1], c[3] - c[2], c[0] - c[3]].map(DVec2::length_squared);
     let shortest = squared[0].min(squared[1]).min(squared[2]).min(squared[3]);
@@ -131,7 +131,7 @@ pub fn triangle_slack(c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
 }
 
 /// A slack rounded down to an f32, 0 unless it is positive and `bounded`.
-#[inline]
+#[inline(always)]
 fn slack_f32(slack: f64, bounded: bool) -> f32 {
     if bounded && slack > 0.0 {
         // Positive: one step down in the bits is the next smaller f32 (f32::MAX from infinity).
@@ -143,14 +143,14 @@ fn slack_f32(slack: f64, bounded: bool) -> f32 {
 }
 
 /// The slack of face `q` with corners `c` ([`quad_slack`] or [`triangle_slack`]).
-#[inline]
+#[inline(always)]
 pub fn face_slack(q: &[u32; 4], c: &[DVec2; 4], value: f64, floor: f64) -> f32 {
     if is_triangle(q) { triangle_slack(c, value, floor) } else { quad_slack(c, value, floor) }
 }
 
 /// The length of a move rounded up to an f32, to compare with [`quad_slack`]. (A length
 /// whose square underflows, below 1e-154, comes out 0: still below any positive slack.)
-#[inline]
+#[inline(always)]
 pub fn move_length(from: DVec2, to: DVec2) -> f32 {
     let length = (to - from).length();
     let rounded = length as f32;
@@ -171,22 +171,64 @@ pub fn stats_and_slack(
     values: &mut Vec<f64>,
     slack: &mut Vec<f32>,
 ) -> QualityStats {
-    let measure = |q: &[u32; 4]| {
-        let c = corners(points, q);
-        let value = scaled_jacobian(&c);
-        (value, face_slack(q, &c, value, floor))
-    };
+    values.clear();
+    values.resize(quads.len(), 0.0);
+    slack.clear();
+    slack.resize(quads.len(), 0.0);
     if quads.len() >= PARALLEL_MIN {
-        quads.par_iter().map(measure).unzip_into_vecs(values, slack);
+        quads
+            .par_chunks(PARALLEL_MIN)
+            .zip(values.par_chunks_mut(PARALLEL_MIN).zip(slack.par_chunks_mut(PARALLEL_MIN)))
+            .for_each(|(quads, (values, slack))| measure_into(points, quads, floor, values, slack));
     } else {
-        values.clear();
-        slack.clear();
-        for (value, s) in quads.iter().map(measure) {
-            values.push(value);
-            slack.push(s);
-        }
+        measure_into(points, quads, floor, values, slack);
     }
     QualityStats::from_values(values)
+}
+
+/// The values and slacks of `quads` into `values` and `slack` (as long); compiled for AVX2
+/// where the CPU has it ([`crate::simd`]: the same bits).
+fn measure_into(points: &[DVec2], quads: &[[u32; 4]], floor: f64, values: &mut [f64], slack: &mut [f32]) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::has_avx2() {
+        // SAFETY: the CPU has AVX2, checked just above.
+        #[allow(unsafe_code)]
+        return unsafe { measure_into_avx2(points, quads, floor, values, slack) };
+    }
+    measure_into_inline(points, quads, floor, values, slack)
+}
+
+/// [`measure_into`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+#[target_feature(enable = "avx2")]
+unsafe fn measure_into_avx2(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    floor: f64,
+    values: &mut [f64],
+    slack: &mut [f32],
+) {
+    measure_into_inline(points, quads, floor, values, slack)
+}
+
+/// The body of [`measure_into`], inlined into each of its compilations.
+#[inline(always)]
+fn measure_into_inline(
+    points: &[DVec2],
+    quads: &[[u32; 4]],
+    floor: f64,
+    values: &mut [f64],
+    slack: &mut [f32],
+) {
+    for ((q, value), s) in quads.iter().zip(values.iter_mut()).zip(slack.iter_mut()) {
+        let c = corners(points, q);
+        *value = crate::quality::scaled_jacobian_inline(&c);
+        *s = face_slack(q, &c, *value, floor);
+    }
 }
 
 /// Whether moving `v` to `target` certainly keeps every quad around it at or above the floor
@@ -195,6 +237,7 @@ pub fn stats_and_slack(
 /// run. `false` means only "not certain". `v` must be a vertex with a ring (interior or
 /// boundary, not non-manifold), not moved yet in this sweep (`moved[v]` is 0, so reading it
 /// with the other corners of its quads changes nothing).
+#[inline(always)]
 pub fn certainly_at_least(
     points: &[DVec2],
     quads: &[[u32; 4]],

@@ -382,7 +382,49 @@ impl RunContext<'_> {
     /// `chunk`, filled with [`Update::NONE`]), in order; vertices that may not move keep
     /// `Update::NONE`. Under the embedded polygon method, interior vertices of valence 4 take
     /// their targets [`embedded_polygon::BATCH`] at a time (the same bits as one by one).
+    ///
+    /// On a CPU with AVX2 this runs the same code compiled for it ([`crate::simd`]): four
+    /// lanes where SSE2 has two, and the same bits, as the arithmetic is IEEE either way.
     fn chunk_updates(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        chunk: &[u32],
+        loop_modes: &[BoundaryMode],
+        since: Option<Since>,
+        out: &mut [Update],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() {
+            // SAFETY: the CPU has AVX2, checked just above.
+            #[allow(unsafe_code)]
+            return unsafe { self.chunk_updates_avx2(points, params, chunk, loop_modes, since, out) };
+        }
+        self.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
+    }
+
+    /// [`Self::chunk_updates`] compiled with AVX2 ([`crate::simd`]).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[allow(unsafe_code)]
+    #[target_feature(enable = "avx2")]
+    unsafe fn chunk_updates_avx2(
+        &self,
+        points: &[DVec2],
+        params: &[f64],
+        chunk: &[u32],
+        loop_modes: &[BoundaryMode],
+        since: Option<Since>,
+        out: &mut [Update],
+    ) {
+        self.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
+    }
+
+    /// The body of [`Self::chunk_updates`], inlined into each of its compilations.
+    #[inline(always)]
+    fn chunk_updates_inline(
         &self,
         points: &[DVec2],
         params: &[f64],
@@ -422,6 +464,7 @@ impl RunContext<'_> {
     }
 
     /// Vertex `v`'s update; `target` is its interior target when already computed.
+    #[inline(always)]
     fn update(
         &self,
         points: &[DVec2],
@@ -443,6 +486,7 @@ impl RunContext<'_> {
     }
 
     /// An interior vertex: its method's target (unless given), through the guard.
+    #[inline(always)]
     fn interior_update(
         &self,
         points: &[DVec2],
@@ -485,6 +529,7 @@ impl RunContext<'_> {
 
     /// Whether moving `v` to `target` certainly keeps its star at or above the guard's floor,
     /// from the sweep's slack (false without one).
+    #[inline(always)]
     fn certainly_at_least(&self, points: &[DVec2], v: usize, target: DVec2, since: Option<Since>) -> bool {
         since.is_some_and(|s| {
             guard::certainly_at_least(points, self.quads, self.topo, v, target, s.slack, s.moved)

@@ -217,13 +217,8 @@ impl Mesh {
     /// [`Mesh::quality_values`], or [`Error::OutOfMemory`].
     pub fn try_quality_values(&self) -> Result<Vec<f64>> {
         let mut values = try_with_capacity(self.quads.len(), "quality values")?;
-        use rayon::prelude::*;
-        values.par_extend(
-            self.quads
-                .par_iter()
-                .with_min_len(crate::quality::PARALLEL_CHUNK)
-                .map(|q| crate::quality::scaled_jacobian(&crate::quality::corners(&self.points, q))),
-        );
+        values.resize(self.quads.len(), 0.0);
+        crate::quality::values_into(&self.points, &self.quads, &mut values);
         Ok(values)
     }
 

@@ -343,9 +343,28 @@ pub fn sign_class(c: &[DVec2; 4]) -> Option<std::cmp::Ordering> {
 
 /// Per-quad scaled Jacobians of `quads` (counter-clockwise, indices into `points`).
 pub fn quad_values(points: &[DVec2], quads: &[[u32; 4]]) -> Vec<f64> {
+    let mut values = vec![0.0; quads.len()];
+    values_into(points, quads, &mut values);
+    values
+}
+
+/// [`quad_values`] into `values` (as long as `quads`): in parallel, chunk by chunk, each
+/// compiled for AVX2 where the CPU has it; the same values on any thread count and CPU.
+pub(crate) fn values_into(points: &[DVec2], quads: &[[u32; 4]], values: &mut [f64]) {
     use rayon::prelude::*;
-    // In parallel, in order: the same vector on any thread count.
-    quads.par_iter().with_min_len(PARALLEL_CHUNK).map(|q| scaled_jacobian(&corners(points, q))).collect()
+    quads
+        .par_chunks(PARALLEL_CHUNK)
+        .zip(values.par_chunks_mut(PARALLEL_CHUNK))
+        .for_each(|(quads, values)| chunk_values(points, quads, values));
+}
+
+crate::simd::avx2_twin! {
+    /// The scaled Jacobians of `quads` into `values` (as long).
+    fn chunk_values(points: &[DVec2], quads: &[[u32; 4]], values: &mut [f64]) {
+        for (q, value) in quads.iter().zip(values.iter_mut()) {
+            *value = scaled_jacobian_inline(&corners(points, q));
+        }
+    }
 }
 
 /// Faces or vertices per parallel task in the whole-mesh passes (quality, energy, lengths):
@@ -354,7 +373,7 @@ pub(crate) const PARALLEL_CHUNK: usize = 4096;
 
 /// The four corner positions of a face; a triangle's last corner twice, which
 /// [`scaled_jacobian`] measures as the triangle (see [`crate::face::fourth_corner`]).
-#[inline]
+#[inline(always)]
 pub fn corners(points: &[DVec2], q: &[u32; 4]) -> [DVec2; 4] {
     let d = crate::face::fourth_corner(q);
     [points[q[0] as usize], points[q[1] as usize], points[q[2] as usize], points[d as usize]]

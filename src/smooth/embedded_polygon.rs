@@ -21,13 +21,13 @@ use glam::DVec2;
 /// angle (negated when the sweep is reflex, i.e. nearly a full turn), else the clockwise
 /// perpendicular of their difference: each form is used where it is well conditioned (its
 /// length is at least sqrt(2) before normalizing).
-#[inline]
+#[inline(always)]
 fn bisector(c: DVec2, b: DVec2) -> DVec2 {
     unit_bisector(c / c.length(), b / b.length())
 }
 
 /// [`bisector`] of the unit directions `c` and `b`.
-#[inline]
+#[inline(always)]
 fn unit_bisector(c: DVec2, b: DVec2) -> DVec2 {
     if c.dot(b) > 0.0 {
         let sum = c + b;
@@ -124,6 +124,20 @@ pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Optio
     }
     let bis = bisector(c, b);
     Some(a.perp_dot(bis).atan2(a.dot(bis)))
+}
+
+/// The magnitude of the rotation of [`bisect`], by [`abs_rotation`] (within 2 ulps of
+/// atan2's): what the energy needs, at a fraction of atan2's cost.
+#[inline(always)]
+pub fn bisecting_rotation_magnitude(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
+    let a = v - p;
+    let b = prev - p;
+    let c = next - p;
+    if a == DVec2::ZERO || b == DVec2::ZERO || c == DVec2::ZERO {
+        return None;
+    }
+    let bis = bisector(c, b);
+    Some(abs_rotation(a.perp_dot(bis), a.dot(bis)))
 }
 
 /// The unit direction from `p` that bisects the angle between `prev` and `next` (the

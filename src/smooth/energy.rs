@@ -4,16 +4,17 @@
 //! so E_v = sum_i 1/2 K theta_i^2 with K = 1 is zero exactly when every spoke bisects its
 //! interior angle. The collective energy is the sum over the vertices being optimized.
 
-use super::embedded_polygon::bisecting_rotation;
+use super::embedded_polygon::bisecting_rotation_magnitude;
 use glam::DVec2;
 
 /// Torsion energy of interior vertex `v` with counter-clockwise edge-neighbours `ring`.
+#[inline(always)]
 pub fn vertex_energy(points: &[DVec2], v: usize, ring: &[u32]) -> f64 {
     let n = ring.len();
     let p = points[v];
     (0..n)
         .filter_map(|i| {
-            bisecting_rotation(
+            bisecting_rotation_magnitude(
                 p,
                 points[ring[i] as usize],
                 points[ring[(i + n - 1) % n] as usize],

@@ -186,48 +186,15 @@ pub fn stats_and_slack(
     QualityStats::from_values(values)
 }
 
-/// The values and slacks of `quads` into `values` and `slack` (as long); compiled for AVX2
-/// where the CPU has it ([`crate::simd`]: the same bits).
-fn measure_into(points: &[DVec2], quads: &[[u32; 4]], floor: f64, values: &mut [f64], slack: &mut [f32]) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
-        // SAFETY: the CPU has AVX2, checked just above.
-        #[allow(unsafe_code)]
-        return unsafe { measure_into_avx2(points, quads, floor, values, slack) };
-    }
-    measure_into_inline(points, quads, floor, values, slack)
-}
-
-/// [`measure_into`] compiled with AVX2.
-///
-/// # Safety
-/// The CPU must have AVX2.
-#[cfg(target_arch = "x86_64")]
-#[allow(unsafe_code)]
-#[target_feature(enable = "avx2")]
-unsafe fn measure_into_avx2(
-    points: &[DVec2],
-    quads: &[[u32; 4]],
-    floor: f64,
-    values: &mut [f64],
-    slack: &mut [f32],
-) {
-    measure_into_inline(points, quads, floor, values, slack)
-}
-
-/// The body of [`measure_into`], inlined into each of its compilations.
-#[inline(always)]
-fn measure_into_inline(
-    points: &[DVec2],
-    quads: &[[u32; 4]],
-    floor: f64,
-    values: &mut [f64],
-    slack: &mut [f32],
-) {
-    for ((q, value), s) in quads.iter().zip(values.iter_mut()).zip(slack.iter_mut()) {
-        let c = corners(points, q);
-        *value = crate::quality::scaled_jacobian_inline(&c);
-        *s = face_slack(q, &c, *value, floor);
+crate::simd::avx2_twin! {
+    /// The values and slacks of `quads` into `values` and `slack` (as long), compiled for AVX2
+    /// where the CPU has it ([`crate::simd`]: the same bits).
+    fn measure_into(points: &[DVec2], quads: &[[u32; 4]], floor: f64, values: &mut [f64], slack: &mut [f32]) {
+        for ((q, value), s) in quads.iter().zip(values.iter_mut()).zip(slack.iter_mut()) {
+            let c = corners(points, q);
+            *value = crate::quality::scaled_jacobian_inline(&c);
+            *s = face_slack(q, &c, *value, floor);
+        }
     }
 }
 

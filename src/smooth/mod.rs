@@ -257,8 +257,11 @@ impl Optimizer {
             Ok((report, on_boundary)) => (Ok(report), on_boundary),
             Err(e) => (Err(e), Vec::new()),
         };
-        let classes =
-            if frame.is_exact() { Ok(Vec::new()) } else { sign_classes(mesh.points(), mesh.quads()) };
+        let classes = if frame.is_exact() {
+            Ok(Vec::new())
+        } else {
+            try_values(mesh.points(), mesh.quads()).map(|values| sign_classes(&values))
+        };
         // Moved boundary vertices lie on the normalized (grid-rounded) polyline: evaluated at
         // the same place on the original one, they stay on the original boundary exactly.
         on_boundary.retain(|b| !frame.unmoved(mesh.points()[b.vertex], &normalized, b.vertex));
@@ -276,15 +279,14 @@ impl Optimizer {
             let (p0, p1) = (original[b.from], original[b.to]);
             mesh.points_mut()[b.vertex] = if b.t == 0.0 { p0 } else { p0 + (p1 - p0) * b.t };
         }
-        if !classes.is_empty() {
-            match sign_classes(mesh.points(), mesh.quads()) {
-                Ok(now) if now == classes => {}
-                disagree_or_error => {
-                    mesh.points_mut().copy_from_slice(original);
-                    return disagree_or_error.map(|_| (report, false));
-                }
+        // The output's values: the sign check's, then the restore's, then the report's.
+        let mut values = match try_values(mesh.points(), mesh.quads()) {
+            Ok(values) if classes.is_empty() || sign_classes(&values) == classes => values,
+            disagree_or_error => {
+                mesh.points_mut().copy_from_slice(original);
+                return disagree_or_error.map(|_| (report, false));
             }
-        }
+        };
         // Normalizing rounded the coordinates: report the quality of the actual ones.
         let input_values = crate::quality::quad_values(original, mesh.quads());
         report.input = QualityStats::from_values(&input_values);
@@ -294,8 +296,9 @@ impl Optimizer {
         // until none does. Measured on Mesquite's tfi_chevron24x24, whose worst quads the run
         // ties, this keeps an average of 0.83 that returning the input loses (0.71).
         let floor = options.guard_floor.max(report.input.min);
-        let restored = restore_below_bounds(mesh, original, &self.topology, &input_values, floor);
-        report.output = mesh.quality();
+        let restored =
+            restore_below_bounds(mesh, original, &self.topology, &input_values, floor, &mut values);
+        report.output = QualityStats::from_values(&values);
         let (input, output) = (&report.input, &report.output);
         // Only a tie on the minimum that the average decides for the input is left to lose:
         // the input is then the better result.
@@ -424,28 +427,30 @@ struct OnPolyline {
 /// Puts back at their `original` positions moved vertices of every quad below min(its input
 /// value, `floor`) (`input_values`): one, where that mends the quad and leaves no quad of its
 /// star below, else all of them, and then those of every quad this leaves below, until none is
-/// (at worst the input, where every quad has its input value). Returns how many vertices went
-/// back.
+/// (at worst the input, where every quad has its input value). `values` are the quads' values
+/// at the mesh's positions, before and after. Returns how many vertices went back.
 fn restore_below_bounds(
     mesh: &mut Mesh,
     original: &[DVec2],
     topo: &Topology,
     input_values: &[f64],
     floor: f64,
+    values: &mut [f64],
 ) -> usize {
     let (points, quads) = mesh.points_mut_and_quads();
+    let bound = |f: usize| input_values[f].min(floor);
     let below = |points: &[DVec2], f: usize| {
         let value = crate::quality::scaled_jacobian(&crate::quality::corners(points, &quads[f]));
-        !(value >= input_values[f].min(floor))
+        !(value >= bound(f))
     };
-    let mut pending: Vec<usize> = {
-        let points: &[DVec2] = points;
-        (0..quads.len())
-            .into_par_iter()
-            .with_min_len(crate::quality::PARALLEL_CHUNK)
-            .filter(|&f| below(points, f))
-            .collect()
-    };
+    let mut pending: Vec<usize> = (0..quads.len())
+        .into_par_iter()
+        .with_min_len(crate::quality::PARALLEL_CHUNK)
+        .filter(|&f| !(values[f] >= bound(f)))
+        .collect();
+    if pending.is_empty() {
+        return 0;
+    }
     let mut restored = 0;
     while let Some(f) = pending.pop() {
         if !below(points, f) {
@@ -478,16 +483,21 @@ fn restore_below_bounds(
             }
         }
     }
+    crate::quality::values_into(points, quads, values);
     restored
 }
 
-/// Per quad, whether its scaled Jacobian is positive, zero or negative (NaN: none).
-fn sign_classes(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<Option<std::cmp::Ordering>>> {
-    let mut classes = crate::alloc::try_with_capacity(quads.len(), "quad sign classes")?;
-    classes.par_extend(
-        quads.par_iter().map(|q| crate::quality::sign_class(&crate::quality::corners(points, q))),
-    );
-    Ok(classes)
+/// Per-quad scaled Jacobians, or [`Error::OutOfMemory`].
+fn try_values(points: &[DVec2], quads: &[[u32; 4]]) -> Result<Vec<f64>> {
+    let mut values = crate::alloc::try_filled(quads.len(), 0.0, "quad values")?;
+    crate::quality::values_into(points, quads, &mut values);
+    Ok(values)
+}
+
+/// Per quad, whether its scaled Jacobian (`values`) is positive, zero or negative (NaN: none),
+/// as [`crate::quality::sign_class`] says.
+fn sign_classes(values: &[f64]) -> Vec<Option<std::cmp::Ordering>> {
+    values.iter().map(|v| v.partial_cmp(&0.0)).collect()
 }
 
 /// Mean length of the face edges (each interior edge counted twice, which does not matter

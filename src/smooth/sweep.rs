@@ -361,19 +361,12 @@ impl RunContext<'_> {
     /// contribute their one angle inside the sweep; here only the interior part is needed
     /// for reporting the result).
     pub fn energy(&self, points: &[DVec2]) -> f64 {
-        let chunk_energy = |chunk: &[u32]| -> f64 {
-            chunk
-                .iter()
-                .filter(|&&v| !self.features.is_boundary(v as usize))
-                .map(|&v| energy::vertex_energy(points, v as usize, self.topo.ring(v as usize)))
-                .sum()
-        };
         // Chunk sums in parallel, added in order: the same bits on any thread count.
         let sums: Vec<f64> = self
             .features
             .movable_vertices()
             .par_chunks(crate::quality::PARALLEL_CHUNK)
-            .map(chunk_energy)
+            .map(|chunk| interior_energy(self.features, self.topo, points, chunk))
             .collect();
         sums.iter().sum()
     }
@@ -394,32 +387,7 @@ impl RunContext<'_> {
         since: Option<Since>,
         out: &mut [Update],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::simd::has_avx2() {
-            // SAFETY: the CPU has AVX2, checked just above.
-            #[allow(unsafe_code)]
-            return unsafe { self.chunk_updates_avx2(points, params, chunk, loop_modes, since, out) };
-        }
-        self.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
-    }
-
-    /// [`Self::chunk_updates`] compiled with AVX2 ([`crate::simd`]).
-    ///
-    /// # Safety
-    /// The CPU must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[allow(unsafe_code)]
-    #[target_feature(enable = "avx2")]
-    unsafe fn chunk_updates_avx2(
-        &self,
-        points: &[DVec2],
-        params: &[f64],
-        chunk: &[u32],
-        loop_modes: &[BoundaryMode],
-        since: Option<Since>,
-        out: &mut [Update],
-    ) {
-        self.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
+        chunk_updates_widest(self, points, params, chunk, loop_modes, since, out)
     }
 
     /// The body of [`Self::chunk_updates`], inlined into each of its compilations.
@@ -628,6 +596,32 @@ impl RunContext<'_> {
         } else {
             pick(slide, BoundaryMode::Slide, Some(q_slide.min))
         }
+    }
+}
+
+crate::simd::avx2_twin! {
+    /// The collective energy of the interior vertices of `chunk`, summed in order.
+    fn interior_energy(features: &Features, topo: &Topology, points: &[DVec2], chunk: &[u32]) -> f64 {
+        chunk
+            .iter()
+            .filter(|&&v| !features.is_boundary(v as usize))
+            .map(|&v| energy::vertex_energy(points, v as usize, topo.ring(v as usize)))
+            .sum()
+    }
+}
+
+crate::simd::avx2_twin! {
+    /// [`RunContext::chunk_updates`], compiled for AVX2 where the CPU has it.
+    fn chunk_updates_widest(
+        ctx: &RunContext,
+        points: &[DVec2],
+        params: &[f64],
+        chunk: &[u32],
+        loop_modes: &[BoundaryMode],
+        since: Option<Since>,
+        out: &mut [Update],
+    ) {
+        ctx.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
     }
 }
 

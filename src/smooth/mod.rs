@@ -526,6 +526,14 @@ mod tests {
 
     use crate::test_meshes::grid;
 
+    /// [`restore_below_bounds`] from the mesh's values, checking the values it leaves.
+    fn restore(m: &mut Mesh, original: &[DVec2], topo: &Topology, input_values: &[f64], floor: f64) -> usize {
+        let mut values = m.quality_values();
+        let restored = restore_below_bounds(m, original, topo, input_values, floor, &mut values);
+        assert_eq!(values, m.quality_values());
+        restored
+    }
+
     #[test]
     fn quads_below_their_bounds_get_their_vertices_back_until_none_is() {
         // 4x4 unit grid (vertex j * 5 + i at (i, j)), floor 0.9995: interior vertex 6 moved
@@ -540,7 +548,7 @@ mod tests {
         for (v, p) in moved {
             m.points_mut()[v] = p;
         }
-        let restored = restore_below_bounds(&mut m, &original, &topo, &input_values, 0.9995);
+        let restored = restore(&mut m, &original, &topo, &input_values, 0.9995);
         assert_eq!(restored, 2);
         for (v, &was) in original.iter().enumerate() {
             let want = if v == 18 { DVec2::new(3.0, 3.001) } else { was };
@@ -554,11 +562,11 @@ mod tests {
             two.points_mut()[v] = p;
         }
         assert!(two.quality_values().iter().zip(&input_values).any(|(q, i)| *q < i.min(0.99)));
-        assert_eq!(restore_below_bounds(&mut two, &original, &topo, &input_values, 0.99), 1);
+        assert_eq!(restore(&mut two, &original, &topo, &input_values, 0.99), 1);
         assert_eq!((two.points()[6], two.points()[7]), (original[6], DVec2::new(2.0, 1.002)));
         // Every quad at or above min(input, floor): nothing changes.
         let before = m.points().to_vec();
-        assert_eq!(restore_below_bounds(&mut m, &original, &topo, &input_values, 0.9995), 0);
+        assert_eq!(restore(&mut m, &original, &topo, &input_values, 0.9995), 0);
         assert_eq!(m.points(), &before[..]);
         // A chain: restoring one vertex leaves its neighbour's quad below, which goes back too.
         let mut m = grid(4, 1);
@@ -569,7 +577,7 @@ mod tests {
         for v in 1..4 {
             m.points_mut()[v] = original[v] + DVec2::new(0.3, 0.0);
         }
-        restore_below_bounds(&mut m, &original, &topo, &input_values, 0.99);
+        restore(&mut m, &original, &topo, &input_values, 0.99);
         for (f, &value) in m.quality_values().iter().enumerate() {
             assert!(value >= input_values[f].min(0.99), "quad {f}: {value}");
         }

@@ -245,7 +245,7 @@ fn doctest_pages() -> String {
 
 fn first_difference(expected: &str, actual: &str) -> String {
     for (i, (e, a)) in expected.lines().zip(actual.lines()).enumerate() {
-        if e != a {
+        if normalise(e) != normalise(a) {
             return format!("line {} of the block:\n  documented: {e}\n  now:        {a}", i + 1);
         }
     }

@@ -117,7 +117,7 @@ fn normalise(text: &str) -> String {
 
 /// The scratch directory the commands of one page run in, with the repository's sample meshes.
 fn scratch(name: &str) -> PathBuf {
-    let dir = root().join("target/docs-check").join(name);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("docs-check").join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("cpp_tests")).unwrap();
     std::os::unix::fs::symlink(root().join("data"), dir.join("data")).unwrap();

@@ -19,7 +19,8 @@
 //!
 //! A second test keeps docs/guide/troubleshooting.md complete: every message of the library's
 //! errors (src/error.rs, src/io/mod.rs), every C status and its name, and the command-line
-//! tool's own messages must appear in it.
+//! tool's own messages must appear in it. A third checks that the pages' links (and
+//! ARCHITECTURE.md's) lead to a file and, with a `#`, to a heading there.
 //!
 //! After a change that changes a documented output,
 //!
@@ -473,4 +474,47 @@ fn troubleshooting_lists_every_message() {
         }
     }
     assert!(missing.is_empty(), "docs/guide/troubleshooting.md does not mention:\n{}", missing.join("\n"));
+}
+
+/// GitHub's anchor of a heading: lower case, punctuation dropped, spaces as hyphens.
+fn anchor(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_' || *c == ' ')
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+#[test]
+fn links_between_the_pages_lead_somewhere() {
+    static LINK: LazyLock<Regex> = LazyLock::new(|| Regex::new(r"\]\(([^)\s]+)\)").unwrap());
+    static HEADING: LazyLock<Regex> = LazyLock::new(|| Regex::new(r"(?m)^#+ (.*)$").unwrap());
+    let mut broken = Vec::new();
+    for page in pages().into_iter().chain([root().join("ARCHITECTURE.md")]) {
+        let text = std::fs::read_to_string(&page).unwrap();
+        let mut prose = text.clone();
+        for block in blocks(&text).iter().rev() {
+            prose.replace_range(block.body.clone(), "");
+        }
+        for m in LINK.captures_iter(&prose) {
+            let link = &m[1];
+            if link.starts_with("http://") || link.starts_with("https://") {
+                continue;
+            }
+            let (path, fragment) = link.split_once('#').unwrap_or((link, ""));
+            let target = if path.is_empty() { page.clone() } else { page.parent().unwrap().join(path) };
+            let shown = page.strip_prefix(root()).unwrap().display().to_string();
+            if !target.exists() {
+                broken.push(format!("{shown}: {link}: no such file"));
+            } else if !fragment.is_empty() && target.extension().is_some_and(|e| e == "md") {
+                let target_text = std::fs::read_to_string(&target).unwrap();
+                if !HEADING.captures_iter(&target_text).any(|h| anchor(&h[1]) == fragment) {
+                    broken.push(format!("{shown}: {link}: no such heading"));
+                }
+            }
+        }
+    }
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
 }

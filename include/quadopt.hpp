@@ -198,9 +198,10 @@ class Options {
   Options &max_iterations(std::uint32_t n) { raw_.max_iterations = n; return *this; }
   /// Step factor, in (0, 1].
   Options &lambda(double v) { raw_.lambda = v; return *this; }
-  /// Stopping threshold on the energy change (per movable vertex unless tau_absolute).
+  /// Stopping threshold on the energy change (per movable vertex unless tau_absolute), for the
+  /// energy rule only (stop_rule(QUADOPT_STOP_RULE_ENERGY)); the default quality rule ignores it.
   Options &tau(double v) { raw_.tau = v; return *this; }
-  /// Compare tau with the absolute energy change, as the paper does.
+  /// Compare tau with the absolute energy change, as the paper does (energy rule only).
   Options &tau_absolute(bool on) { raw_.tau_absolute = on ? 1 : 0; return *this; }
   /// Boundary vertices turning by more than this (degrees, [0, 180]) are corners; on a surface,
   /// also the angle between two faces' normals above which their edge is a feature curve.

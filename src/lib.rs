@@ -95,3 +95,8 @@ pub mod testing {
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
+
+/// The user guide's Rust examples (tests/docs.rs checks that every page with one is here).
+#[cfg(doctest)]
+#[doc = include_str!("../docs/guide/rust.md")]
+struct GuideRustDoctests;

@@ -45,7 +45,7 @@ fn edge_ratio(mesh: &Mesh) -> f64 {
 }
 
 /// Meshes on which the default stopping rule ends lower, by a measured and documented amount
-/// (README, "Stopping rule"): (mesh, inverted, min, avg) that the default must reach instead
+/// (docs/stopping.md; docs/guide/presets.md, "Stopping rules"): (mesh, inverted, min, avg) that the default must reach instead
 /// of the floor, which the energy rule (`StopRule::Energy`) must still reach.
 ///
 /// Mesquite's tfi_chevron24x24 is a TFI mesh near a fixed point of the sweeps: its average
@@ -69,7 +69,7 @@ const DOCUMENTED_COST: &[(&str, usize, f64, f64)] = &[
 /// before, were one draw of that spread (graded anisotropic's 0.035/0.476). The stopping
 /// rule's average threshold of 4e-3 (e8ecb55, from 1e-3) cost graded anisotropic's median
 /// average about 0.012 (0.481 -> 0.468 over 20 copies; it stops after fewer sweeps), shashkov's
-/// 0.004: recorded here as a documented cost of the faster default (README, "Stopping rule").
+/// 0.004: recorded here as a documented cost of the faster default (docs/stopping.md; docs/guide/presets.md, "Stopping rules").
 #[rustfmt::skip]
 const SQUASHED_FLOOR: &[(&str, f64, usize, f64, f64)] = &[
     // The per-quad guarantee (issue 42) keeps 6 inversions whose removal lowered valid

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[command(
     name = "quadopt",
     version = openmesh_io::VERSION,
-    about = "Quality optimizer for 2D quad and quad-dominant meshes (embedded polygon method)"
+    about = "Quality optimizer for quad and quad-dominant meshes, planar or on curved surfaces (embedded polygon method)"
 )]
 pub struct Cli {
     #[command(subcommand)]

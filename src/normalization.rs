@@ -231,9 +231,10 @@ impl Normalization {
         if *self == Normalization::IDENTITY {
             return Ok(Normalized { original, unrounded, all_unrounded: false });
         }
-        for p in points.iter_mut() {
-            *p = self.to_normalized(*p);
-        }
+        points
+            .par_iter_mut()
+            .with_min_len(crate::quality::PARALLEL_CHUNK)
+            .for_each(|p| *p = self.to_normalized(*p));
         let at = |v: u32| original.get(v as usize).map_or(DVec2::ZERO, |&o| self.off_grid(o));
         for _ in 0..MAX_SIGN_PASSES {
             let points_now: &[DVec2] = points;
@@ -290,7 +291,8 @@ impl Normalization {
     /// coordinates back exactly; a moved vertex gets its mapped position (or its original one
     /// in the impossible case that this is not finite).
     pub fn restore(&self, points: &mut [DVec2], normalized: &Normalized) {
-        for (v, p) in points.iter_mut().enumerate() {
+        // Vertex by vertex, in parallel: each depends on itself only.
+        points.par_iter_mut().with_min_len(crate::quality::PARALLEL_CHUNK).enumerate().for_each(|(v, p)| {
             let o = normalized.original[v];
             if self.unmoved(*p, normalized, v) {
                 *p = o;
@@ -298,7 +300,7 @@ impl Normalization {
                 let back = self.to_original(*p);
                 *p = if back.is_finite() { back } else { o };
             }
-        }
+        });
     }
 }
 

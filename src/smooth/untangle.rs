@@ -541,7 +541,12 @@ fn untangle_checking_every(
             apply(points, &moves);
             moved |= !moves.is_empty();
         }
-        let inverted = quads.iter().filter(|q| scaled_jacobian(&corners(points, q)) <= 0.0).count();
+        let points_now: &[DVec2] = points;
+        let inverted = quads
+            .par_iter()
+            .with_min_len(crate::quality::PARALLEL_CHUNK)
+            .filter(|q| scaled_jacobian(&corners(points_now, q)) <= 0.0)
+            .count();
         (fewest, stalled) = if inverted < fewest { (inverted, 0) } else { (fewest, stalled + 1) };
         last_call = Instant::now();
         if !keep_going() {

@@ -40,7 +40,7 @@ stage's seconds (in "seconds"; 0 when it did not run), "iterations"
 (sweeps), the output's min / avg (the signed scaled Jacobian, the measure quadopt ranks by; on
 the sphere also Verdict's), the process's wall time (fork to exit: reading, set-up, optimizing,
 writing) and its peak resident set size (wait4's ru_maxrss of that process alone). Each run is
-started by a small launcher (a fresh `python -I -S`, LAUNCHER below) that forks quadopt and
+started by a small launcher (a fresh `python -I -S`, tools/peak_rss.py) that forks quadopt and
 waits for it with wait4: on Linux a child's ru_maxrss starts at its parent's high-water mark
 (kept over exec), so a child of this script would never read below this script's own peak
 (36 MB with numpy loaded, hundreds after a large sphere). The launcher's is about 5 MB, the
@@ -88,6 +88,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 
 from bench_peers import note, parse_size, size_label  # noqa: E402  ("10k", "1m", ...)
+from peak_rss import launch  # noqa: E402  (a child's own peak memory)
 
 PRESETS = ["fast", "balanced", "best"]
 SIZES = "10k,30k,100k,300k,1m,3m,10m"
@@ -102,23 +103,6 @@ VTK_BYTES_PER_QUAD = 100
 KEEP_MAX = 1000000
 # The largest move of a sphere vertex, in its shortest edge.
 SPHERE_JITTER = 0.2
-# The launcher of the module docs (run by a fresh `python -I -S -c`): starts ARGV[2:], waits for
-# it with wait4 and writes its exit code, ru_maxrss (KiB) and wall seconds to the file
-# descriptor ARGV[1].
-LAUNCHER = r"""
-import os, sys, time
-fd = int(sys.argv[1])
-os.set_inheritable(fd, False)
-t0 = time.perf_counter()
-pid = os.fork()
-if pid == 0:
-    try:
-        os.execv(sys.argv[2], sys.argv[2:])
-    finally:
-        os._exit(127)
-_, status, usage = os.wait4(pid, 0)
-os.write(fd, f"{os.waitstatus_to_exitcode(status)} {usage.ru_maxrss} {time.perf_counter() - t0!r}".encode())
-"""
 
 
 # --------------------------------------------------------------------------------------------
@@ -238,29 +222,6 @@ def make_mesh(args, kind, n, path):
         points, quads = cube_sphere(n)
         points = perturb_sphere(points, quads, args.seed)
         write_vtk(path, points, quads, f"cube-sphere, {len(quads)} quads, seed {args.seed} (tools/bench_scale.py)")
-
-
-def launch(cmd):
-    """Runs cmd through LAUNCHER: (stdout, its peak RSS in KiB, its wall seconds, from fork to
-    wait4); a failure raises with its stderr."""
-    r, w = os.pipe()
-    try:
-        p = subprocess.Popen([sys.executable, "-I", "-S", "-c", LAUNCHER, str(w), *cmd],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, pass_fds=(w,))
-        os.close(w)
-        w = None
-        out, err = p.communicate()
-        with os.fdopen(r, "rb") as f:
-            r = None
-            fields = f.read().split()
-    finally:
-        for fd in (r, w):
-            if fd is not None:
-                os.close(fd)
-    if p.returncode != 0 or len(fields) != 3 or int(fields[0]) != 0:
-        msg = err.decode(errors="replace").strip() or f"exit code {fields[0].decode() if fields else p.returncode}"
-        raise RuntimeError(f"{' '.join(cmd)}: {msg}")
-    return out, int(fields[1]), float(fields[2])
 
 
 def run_quadopt(args, kind, mesh, in_path, out_path, preset):

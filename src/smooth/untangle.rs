@@ -355,11 +355,6 @@ impl Program<'_> {
     }
 }
 
-/// Whether the star of `v` has a non-positive corner value.
-fn star_is_tangled(points: &[DVec2], quads: &[[u32; 4]], topo: &Topology, v: usize) -> bool {
-    topo.vertex_quads(v).iter().any(|&q| scaled_jacobian(&corners(points, &quads[q as usize])) <= 0.0)
-}
-
 /// One untangling move of `v`, or `None` if it cannot raise its star's smallest corner value.
 pub(crate) fn untangle_vertex(
     points: &[DVec2],
@@ -481,9 +476,21 @@ fn untangle_checking_every(
 ) -> Untangled {
     let mut moves: Vec<(u32, DVec2)> = Vec::new();
     let mut last_call = Instant::now();
-    let apply = |points: &mut [DVec2], moves: &[(u32, DVec2)]| {
+    // Per quad, whether it is inverted (scaled Jacobian <= 0) at the current positions: measured
+    // once, then again only for the quads of moved vertices. A vertex's star is tangled when one
+    // of its quads is, so most vertices are passed over by a look at their quads' flags.
+    let mut inverted_quad: Vec<bool> = {
+        let values = crate::quality::quad_values(points, quads);
+        values.iter().map(|&value| value <= 0.0).collect()
+    };
+    let apply = |points: &mut [DVec2], moves: &[(u32, DVec2)], inverted_quad: &mut [bool]| {
         for &(v, p) in moves {
             points[v as usize] = p;
+        }
+        for &(v, _) in moves {
+            for &q in topo.vertex_quads(v as usize) {
+                inverted_quad[q as usize] = scaled_jacobian(&corners(points, &quads[q as usize])) <= 0.0;
+            }
         }
     };
     let (mut fewest, mut stalled) = (usize::MAX, 0);
@@ -498,11 +505,13 @@ fn untangle_checking_every(
                 // No vertex of a class is in another's star, so the moves of a class can be
                 // found in parallel from the same positions and applied afterwards.
                 let snapshot: &[DVec2] = points;
+                let flags: &[bool] = &inverted_quad;
+                // Whether the star of `v` has an inverted quad, from the flags.
                 let wanted = |v: u32| {
                     let vu = v as usize;
                     features.is_movable(vu)
                         && topo.kind(vu) == VertexKind::Interior
-                        && star_is_tangled(snapshot, quads, topo, vu)
+                        && topo.vertex_quads(vu).iter().any(|&q| flags[q as usize])
                 };
                 let mut cancelled = false;
                 if chunk.len() == 1 && topo.quad_count(chunk[0] as usize) >= CHUNK_QUADS {
@@ -534,19 +543,14 @@ fn untangle_checking_every(
                     cancelled = !keep_going();
                 }
                 if cancelled {
-                    apply(points, &moves);
+                    apply(points, &moves, &mut inverted_quad);
                     return Untangled { sweeps: sweep + 1, cancelled: true };
                 }
             }
-            apply(points, &moves);
+            apply(points, &moves, &mut inverted_quad);
             moved |= !moves.is_empty();
         }
-        let points_now: &[DVec2] = points;
-        let inverted = quads
-            .par_iter()
-            .with_min_len(crate::quality::PARALLEL_CHUNK)
-            .filter(|q| scaled_jacobian(&corners(points_now, q)) <= 0.0)
-            .count();
+        let inverted = inverted_quad.iter().filter(|&&b| b).count();
         (fewest, stalled) = if inverted < fewest { (inverted, 0) } else { (fewest, stalled + 1) };
         last_call = Instant::now();
         if !keep_going() {

@@ -243,19 +243,17 @@ fn target_up_to<const MAX: usize>(points: &[DVec2], v: usize, ring: &[u32]) -> T
 /// Vertices whose targets [`targets_of_four`] computes together.
 pub const BATCH: usize = 4;
 
-/// [`target`] of [`BATCH`] interior vertices of valence 4 (a quad mesh's regular interior
-/// vertices, most of any mesh), the same bits as one call each.
-///
-/// One vertex's target is a long chain of dependent square roots and divisions that the
-/// processor cannot overlap with the next vertex's: computed in lanes across vertices, the
-/// chains run side by side and the arithmetic vectorizes (measured 1.6x on 1M quads). A vertex
-/// with a degenerate corner, or whose rotations sum to zero, takes [`target`] itself.
+/// Per corner of [`BATCH`] valence-4 vertices (corner `l` of vertex `j` at index `[l][j]`):
+/// |theta| (NaN when degenerate) and the candidate, as [`target`] computes them.
+struct Corners {
+    theta: [[f64; BATCH]; 4],
+    cx: [[f64; BATCH]; 4],
+    cy: [[f64; BATCH]; 4],
+}
+
+/// The [`Corners`] of [`targets_of_four`] and [`energies_of_four`].
 #[inline(always)]
-pub fn targets_of_four(
-    points: &[DVec2],
-    vertices: [usize; BATCH],
-    rings: [&[u32; 4]; BATCH],
-) -> [Target; BATCH] {
+fn corners_of_four(points: &[DVec2], vertices: [usize; BATCH], rings: [&[u32; 4]; BATCH]) -> Corners {
     const B: usize = BATCH;
     // Corner l of vertex j is at (x[l][j], y[l][j]); edge l runs from corner l to corner l + 1.
     let (mut px, mut py) = ([0.0; B], [0.0; B]);
@@ -304,6 +302,43 @@ pub fn targets_of_four(
             theta[l][j] = select(degenerate || sine.is_nan(), f64::NAN, abs_rotation(sine, cosine));
         }
     }
+    Corners { theta, cx, cy }
+}
+
+/// The torsion energies ([`super::energy::vertex_energy`], the same bits) of [`BATCH`]
+/// interior vertices of valence 4, four lanes at a time; `None` for a vertex with a degenerate
+/// corner, which `vertex_energy` measures itself.
+#[inline(always)]
+pub fn energies_of_four(
+    points: &[DVec2],
+    vertices: [usize; BATCH],
+    rings: [&[u32; 4]; BATCH],
+) -> [Option<f64>; BATCH] {
+    let Corners { theta, .. } = corners_of_four(points, vertices, rings);
+    let mut energy = [0.0; BATCH];
+    for corner in &theta {
+        for j in 0..BATCH {
+            energy[j] += 0.5 * corner[j] * corner[j];
+        }
+    }
+    std::array::from_fn(|j| (!theta.iter().any(|corner| corner[j].is_nan())).then_some(energy[j]))
+}
+
+/// [`target`] of [`BATCH`] interior vertices of valence 4 (a quad mesh's regular interior
+/// vertices, most of any mesh), the same bits as one call each.
+///
+/// One vertex's target is a long chain of dependent square roots and divisions that the
+/// processor cannot overlap with the next vertex's: computed in lanes across vertices, the
+/// chains run side by side and the arithmetic vectorizes (measured 1.6x on 1M quads). A vertex
+/// with a degenerate corner, or whose rotations sum to zero, takes [`target`] itself.
+#[inline(always)]
+pub fn targets_of_four(
+    points: &[DVec2],
+    vertices: [usize; BATCH],
+    rings: [&[u32; 4]; BATCH],
+) -> [Target; BATCH] {
+    const B: usize = BATCH;
+    let Corners { theta, cx, cy } = corners_of_four(points, vertices, rings);
     let (mut sum_abs, mut energy) = ([0.0; B], [0.0; B]);
     for corner in &theta {
         for j in 0..B {
@@ -432,6 +467,39 @@ mod tests {
                     (t.x.to_bits(), t.y.to_bits(), e.to_bits()),
                     (u.x.to_bits(), u.y.to_bits(), f.to_bits())
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn energies_of_four_are_vertex_energy_bit_for_bit() {
+        // Random valence-4 stars, some tangled, one with a degenerate spoke: each lane is
+        // vertex_energy's value (bit for bit) or None where a corner is degenerate.
+        let mut rnd = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut points = Vec::new();
+        for j in 0..40 {
+            let centre = DVec2::new(rnd() * 4.0 - 2.0, rnd() * 4.0 - 2.0);
+            points.push(centre);
+            for k in 0..4 {
+                let angle = std::f64::consts::FRAC_PI_2 * k as f64 + (rnd() - 0.5) * 2.5;
+                let r = 0.2 + rnd() * 2.0;
+                points.push(centre + r * DVec2::from_angle(angle));
+            }
+            if j == 7 {
+                points[5 * j + 2] = centre;
+            }
+        }
+        for batch in 0..10 {
+            let vertices: [usize; BATCH] = std::array::from_fn(|j| 5 * (4 * batch + j));
+            let rings: Vec<[u32; 4]> =
+                vertices.iter().map(|&v| std::array::from_fn(|k| (v + 1 + k) as u32)).collect();
+            let refs: [&[u32; 4]; BATCH] = std::array::from_fn(|j| &rings[j]);
+            for (j, e) in energies_of_four(&points, vertices, refs).into_iter().enumerate() {
+                let want = crate::smooth::energy::vertex_energy(&points, vertices[j], &rings[j]);
+                match e {
+                    Some(e) => assert_eq!(e.to_bits(), want.to_bits(), "vertex {}", vertices[j]),
+                    None => assert_eq!(vertices[j], 35, "only the degenerate star falls back"),
+                }
             }
         }
     }

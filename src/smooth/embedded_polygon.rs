@@ -113,9 +113,10 @@ pub fn bisect(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<(f64, DVec
     Some((a.perp_dot(bis).atan2(a.dot(bis)), p + a.length() * bis))
 }
 
-/// The rotation of [`bisect`] alone.
-#[inline]
-pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
+/// The sine and cosine (times |v - p|) of the rotation of [`bisect`], `None` when an edge is
+/// degenerate.
+#[inline(always)]
+fn bisecting_sine_cosine(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<(f64, f64)> {
     let a = v - p;
     let b = prev - p;
     let c = next - p;
@@ -123,21 +124,20 @@ pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Optio
         return None;
     }
     let bis = bisector(c, b);
-    Some(a.perp_dot(bis).atan2(a.dot(bis)))
+    Some((a.perp_dot(bis), a.dot(bis)))
+}
+
+/// The rotation of [`bisect`] alone.
+#[inline]
+pub fn bisecting_rotation(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
+    bisecting_sine_cosine(v, p, prev, next).map(|(sine, cosine)| sine.atan2(cosine))
 }
 
 /// The magnitude of the rotation of [`bisect`], by [`abs_rotation`] (within 2 ulps of
 /// atan2's): what the energy needs, at a fraction of atan2's cost.
 #[inline(always)]
 pub fn bisecting_rotation_magnitude(v: DVec2, p: DVec2, prev: DVec2, next: DVec2) -> Option<f64> {
-    let a = v - p;
-    let b = prev - p;
-    let c = next - p;
-    if a == DVec2::ZERO || b == DVec2::ZERO || c == DVec2::ZERO {
-        return None;
-    }
-    let bis = bisector(c, b);
-    Some(abs_rotation(a.perp_dot(bis), a.dot(bis)))
+    bisecting_sine_cosine(v, p, prev, next).map(|(sine, cosine)| abs_rotation(sine, cosine))
 }
 
 /// The unit direction from `p` that bisects the angle between `prev` and `next` (the

@@ -182,7 +182,7 @@ impl RunContext<'_> {
                         stuck: &stuck,
                     });
                     let chunk_updates = |chunk: &[u32], out: &mut [Update]| {
-                        self.chunk_updates(pts, prm, chunk, loop_modes, since, out);
+                        chunk_updates_widest(self, pts, prm, chunk, loop_modes, since, out);
                     };
                     if class.len() >= PARALLEL_MIN {
                         class
@@ -376,23 +376,10 @@ impl RunContext<'_> {
     /// `Update::NONE`. Under the embedded polygon method, interior vertices of valence 4 take
     /// their targets [`embedded_polygon::BATCH`] at a time (the same bits as one by one).
     ///
-    /// On a CPU with AVX2 this runs the same code compiled for it ([`crate::simd`]): four
-    /// lanes where SSE2 has two, and the same bits, as the arithmetic is IEEE either way.
-    fn chunk_updates(
-        &self,
-        points: &[DVec2],
-        params: &[f64],
-        chunk: &[u32],
-        loop_modes: &[BoundaryMode],
-        since: Option<Since>,
-        out: &mut [Update],
-    ) {
-        chunk_updates_widest(self, points, params, chunk, loop_modes, since, out)
-    }
-
-    /// The body of [`Self::chunk_updates`], inlined into each of its compilations.
+    /// Called through [`chunk_updates_widest`], which compiles it for AVX2 where the CPU has
+    /// it ([`crate::simd`]: four lanes where SSE2 has two, the same bits).
     #[inline(always)]
-    fn chunk_updates_inline(
+    fn chunk_updates(
         &self,
         points: &[DVec2],
         params: &[f64],
@@ -635,7 +622,7 @@ crate::simd::avx2_twin! {
 }
 
 crate::simd::avx2_twin! {
-    /// [`RunContext::chunk_updates`], compiled for AVX2 where the CPU has it.
+    /// [`RunContext::chunk_updates`], compiled for AVX2 where the CPU has it (the sweep's entry).
     fn chunk_updates_widest(
         ctx: &RunContext,
         points: &[DVec2],
@@ -645,7 +632,7 @@ crate::simd::avx2_twin! {
         since: Option<Since>,
         out: &mut [Update],
     ) {
-        ctx.chunk_updates_inline(points, params, chunk, loop_modes, since, out)
+        ctx.chunk_updates(points, params, chunk, loop_modes, since, out)
     }
 }
 
